@@ -1,0 +1,5 @@
+//! Desktop simulator for the `mcu_abuffer` renderer: scene loading, built-in
+//! scenes, image output and the measurement tools.
+#![warn(missing_docs)]
+
+pub mod scene_desc;
