@@ -2,4 +2,7 @@
 //! scenes, image output and the measurement tools.
 #![warn(missing_docs)]
 
+pub mod builtins;
+pub mod obj;
 pub mod scene_desc;
+pub mod scene_file;

@@ -1,0 +1,173 @@
+//! Fragments: what one triangle leaves in one pixel, and their packed storage form.
+
+use crate::coverage::CoverageMask;
+use crate::fixed_point::DEPTH_MAX;
+use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+
+/// The largest magnitude of a stored depth gradient (24-bit signed), in depth units per pixel.
+pub const GRADIENT_LIMIT: i32 = (1 << 23) - 1;
+
+/// A fragment in working form: coverage, color and the depth plane at the pixel.
+///
+/// `z` is the triangle plane's depth at the pixel center (24 fraction bits, smaller
+/// is nearer), `dzdx`/`dzdy` its gradients in depth units per pixel, saturated to
+/// ±[`GRADIENT_LIMIT`]. The depth at the sample with offset `(ox, oy)` (in 1/16
+/// pixel) is `(z * 16 + dzdx * ox + dzdy * oy) / 16`; see [`Fragment::depth_at`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fragment<M: CoverageMask> {
+    /// Samples this fragment covers (and, once stored, owns).
+    pub mask: M,
+    /// Depth at the pixel center, `0 ..= DEPTH_MAX`.
+    pub z: u32,
+    /// Depth change per pixel step in x.
+    pub dzdx: i32,
+    /// Depth change per pixel step in y.
+    pub dzdy: i32,
+    /// Color, 8 bits per channel.
+    pub color: Rgb888,
+}
+
+impl<M: CoverageMask> Fragment<M> {
+    /// Depth at sample `(col, row)` of the grid, scaled by 16 (exact: no rounding).
+    ///
+    /// This is the quantity visibility compares: `16 z + dzdx ox + dzdy oy` with the
+    /// sample offsets in 1/16 pixel. Its magnitude stays below 2^29.
+    #[inline]
+    pub fn depth_at(&self, col: u32, row: u32) -> i32 {
+        ((self.z as i32) << 4) + self.dzdx * M::offset_x(col) + self.dzdy * M::offset_y(row)
+    }
+}
+
+/// A fragment as it sits in the main buffer or the shared pool.
+///
+/// Layout: the mask, then three 32-bit words that each hold a 24-bit depth
+/// quantity and one 8-bit color channel: `z | r << 24`, `dzdx | g << 24`,
+/// `dzdy | b << 24`. With a 16-bit mask this is the seed's 14-byte fragment;
+/// see [`PackedFragment::SIZE`].
+#[derive(Clone, Copy)]
+#[repr(C, packed)]
+pub struct PackedFragment<M: CoverageMask> {
+    mask: M,
+    z_red: u32,
+    dzdx_green: u32,
+    dzdy_blue: u32,
+}
+
+impl<M: CoverageMask> Default for PackedFragment<M> {
+    fn default() -> Self {
+        Self {
+            mask: M::EMPTY,
+            z_red: 0,
+            dzdx_green: 0,
+            dzdy_blue: 0,
+        }
+    }
+}
+
+impl<M: CoverageMask> core::fmt::Debug for PackedFragment<M> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        self.unpack().fmt(f)
+    }
+}
+
+const LOW24: u32 = 0x00FF_FFFF;
+
+#[inline]
+fn sign_extend_24(v: u32) -> i32 {
+    ((v << 8) as i32) >> 8
+}
+
+impl<M: CoverageMask> PackedFragment<M> {
+    /// Bytes one stored fragment takes (`M_frag` of SPEC section 5).
+    pub const SIZE: usize = core::mem::size_of::<Self>();
+
+    /// Packs a working fragment. Depth is clamped to `DEPTH_MAX` and gradients to
+    /// ±[`GRADIENT_LIMIT`] (the rasterizer already keeps them in range).
+    #[inline]
+    pub fn pack(f: &Fragment<M>) -> Self {
+        let z = f.z.min(DEPTH_MAX);
+        let dx = f.dzdx.clamp(-GRADIENT_LIMIT, GRADIENT_LIMIT) as u32 & LOW24;
+        let dy = f.dzdy.clamp(-GRADIENT_LIMIT, GRADIENT_LIMIT) as u32 & LOW24;
+        Self {
+            mask: f.mask,
+            z_red: z | (f.color.r() as u32) << 24,
+            dzdx_green: dx | (f.color.g() as u32) << 24,
+            dzdy_blue: dy | (f.color.b() as u32) << 24,
+        }
+    }
+
+    /// Unpacks into the working form.
+    #[inline]
+    pub fn unpack(&self) -> Fragment<M> {
+        let (zr, xg, yb) = (self.z_red, self.dzdx_green, self.dzdy_blue);
+        Fragment {
+            mask: self.mask,
+            z: zr & LOW24,
+            dzdx: sign_extend_24(xg),
+            dzdy: sign_extend_24(yb),
+            color: Rgb888::new((zr >> 24) as u8, (xg >> 24) as u8, (yb >> 24) as u8),
+        }
+    }
+
+    /// The coverage mask.
+    #[inline]
+    pub fn mask(&self) -> M {
+        self.mask
+    }
+
+    /// Replaces the coverage mask.
+    #[inline]
+    pub fn set_mask(&mut self, mask: M) {
+        self.mask = mask;
+    }
+
+    /// Depth at the pixel center.
+    #[inline]
+    pub fn z(&self) -> u32 {
+        self.z_red & LOW24
+    }
+
+    /// The slot's link word while it sits on the pool's free list.
+    #[inline]
+    pub(crate) fn link(&self) -> u32 {
+        self.z_red
+    }
+
+    /// Turns the slot into a free-list entry pointing at `next`.
+    #[inline]
+    pub(crate) fn set_link(&mut self, next: u32) {
+        self.z_red = next;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coverage::{Mask4x4, Mask8x4, Mask8x8};
+
+    #[test]
+    fn packed_sizes() {
+        assert_eq!(PackedFragment::<Mask4x4>::SIZE, 14);
+        assert_eq!(PackedFragment::<Mask8x4>::SIZE, 16);
+        assert_eq!(PackedFragment::<Mask8x8>::SIZE, 20);
+    }
+
+    #[test]
+    fn pack_round_trip() {
+        let f = Fragment {
+            mask: Mask4x4(0xA5A5),
+            z: DEPTH_MAX - 3,
+            dzdx: -GRADIENT_LIMIT,
+            dzdy: 12345,
+            color: Rgb888::new(1, 128, 255),
+        };
+        assert_eq!(PackedFragment::pack(&f).unpack(), f);
+        let g = Fragment {
+            dzdx: i32::MAX,
+            dzdy: i32::MIN,
+            ..f
+        };
+        let u = PackedFragment::pack(&g).unpack();
+        assert_eq!((u.dzdx, u.dzdy), (GRADIENT_LIMIT, -GRADIENT_LIMIT));
+    }
+}

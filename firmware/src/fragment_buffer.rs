@@ -1,0 +1,541 @@
+//! The modified A-buffer: per-pixel fragment lists in a main buffer of fixed slots
+//! plus pool addresses, a shared overflow pool, and merging when memory runs out
+//! (SPEC sections 3 to 5).
+//!
+//! Each pixel owns `N_main` fragment slots and `N_extra` addresses into the
+//! [`SharedPool`]. Its list is kept sorted by depth at the pixel center, nearest
+//! first: list positions below `N_main` live in the pixel's own slots, the rest in
+//! pool slots through the pixel's addresses. When a fragment arrives, visibility
+//! masks settle every sample it shares with a stored fragment; fragments left with
+//! no sample are removed and their pool slots freed at once. A survivor that finds
+//! no room triggers the [`OverflowPolicy`].
+//!
+//! Storage is borrowed ([`BufferStorage`]): the firmware lends `static` arrays, the
+//! host lends vectors. Nothing is allocated.
+
+use crate::band_buffer::BandBuffer;
+use crate::coverage::CoverageMask;
+use crate::fragment::{Fragment, PackedFragment};
+use crate::merge::merge_fragments;
+use crate::pool::{PoolAddress, SharedPool};
+use crate::stats::BufferStats;
+use crate::visibility::visibility_mask;
+use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+
+/// What happens when a pixel must hold one fragment more than it may.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum OverflowPolicy {
+    /// Merge the two fragments farthest from the viewer (the seed's method).
+    MergeFarthest,
+    /// Merge the two fragments adjacent in depth with the smallest depth difference
+    /// (what Z3 does), for comparison.
+    MergeClosest,
+    /// Of the two farthest fragments, drop the one with smaller coverage (the
+    /// farther one on a tie), as in the fixed-slot A-buffer the seed cites.
+    Discard,
+}
+
+/// Sizes of a fragment buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BufferConfig {
+    /// Pixels per row (`W`).
+    pub width: u16,
+    /// Rows per band (`R`).
+    pub band_height: u16,
+    /// Fragment slots per pixel in the main buffer (`N_main`, at least 1).
+    pub main_slots: u8,
+    /// Pool addresses per pixel (`N_extra`).
+    pub extra_addresses: u8,
+    /// Overflow handling.
+    pub policy: OverflowPolicy,
+}
+
+impl BufferConfig {
+    /// Pixels in a band, `W R`.
+    pub const fn pixels(&self) -> usize {
+        self.width as usize * self.band_height as usize
+    }
+
+    /// Length of the main fragment slot array: `W R N_main`.
+    pub const fn main_slot_count(&self) -> usize {
+        self.pixels() * self.main_slots as usize
+    }
+
+    /// Length of the pool address array: `W R N_extra`.
+    pub const fn address_count(&self) -> usize {
+        self.pixels() * self.extra_addresses as usize
+    }
+
+    /// Most fragments one pixel may hold, `N_main + N_extra`.
+    pub const fn pixel_capacity(&self) -> usize {
+        self.main_slots as usize + self.extra_addresses as usize
+    }
+
+    /// Bytes of the seed's `M_shared` formula for this configuration and pool size:
+    /// `W R (N_main M_frag + N_extra M_addr) + N_pool M_frag`.
+    pub const fn shared_bytes(
+        &self,
+        fragment_bytes: usize,
+        address_bytes: usize,
+        pool_slots: usize,
+    ) -> usize {
+        self.pixels()
+            * (self.main_slots as usize * fragment_bytes
+                + self.extra_addresses as usize * address_bytes)
+            + pool_slots * fragment_bytes
+    }
+}
+
+/// The memory a [`FragmentBuffer`] works in.
+pub struct BufferStorage<'a, M: CoverageMask, A: PoolAddress> {
+    /// Fragment count per pixel; length `W R`.
+    pub counts: &'a mut [u8],
+    /// Main fragment slots; length `W R N_main`.
+    pub main: &'a mut [PackedFragment<M>],
+    /// Pool addresses; length `W R N_extra`.
+    pub addresses: &'a mut [A],
+    /// The shared pool's slots (`N_pool`, any length the address type can index).
+    pub pool: &'a mut [PackedFragment<M>],
+}
+
+/// Why a fragment buffer could not be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum BufferError {
+    /// `main_slots` is zero.
+    NoMainSlot,
+    /// Width or band height is zero.
+    EmptyBand,
+    /// `N_main + N_extra` exceeds what a per-pixel count can hold (255).
+    PixelCapacityTooLarge,
+    /// A storage slice has the wrong length.
+    StorageLength {
+        /// Which slice: 0 counts, 1 main slots, 2 addresses.
+        slice: u8,
+        /// Length required.
+        expected: usize,
+        /// Length given.
+        actual: usize,
+    },
+    /// The pool is larger than the address type can index.
+    PoolTooLarge {
+        /// Largest pool the address type can index.
+        max: usize,
+    },
+}
+
+impl core::fmt::Display for BufferError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::NoMainSlot => write!(f, "a pixel needs at least one main fragment slot"),
+            Self::EmptyBand => write!(f, "band width and height must be at least 1"),
+            Self::PixelCapacityTooLarge => write!(
+                f,
+                "main slots plus pool addresses per pixel must be at most 255"
+            ),
+            Self::StorageLength {
+                slice,
+                expected,
+                actual,
+            } => {
+                let name = ["counts", "main slots", "pool addresses"][*slice as usize % 3];
+                write!(f, "{name} storage has {actual} entries, needs {expected}")
+            }
+            Self::PoolTooLarge { max } => {
+                write!(f, "pool larger than {max} slots cannot be addressed")
+            }
+        }
+    }
+}
+
+/// The A-buffer for one band: main buffer, pool addresses and shared pool.
+pub struct FragmentBuffer<'a, M: CoverageMask, A: PoolAddress> {
+    config: BufferConfig,
+    counts: &'a mut [u8],
+    main: &'a mut [PackedFragment<M>],
+    addresses: &'a mut [A],
+    pool: SharedPool<'a, M>,
+    rows: u16,
+    stats: BufferStats,
+}
+
+/// Where one list position of a pixel lives.
+#[derive(Clone, Copy)]
+enum Slot {
+    Main(usize),
+    Pool(usize),
+}
+
+impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
+    /// A buffer over `storage`, checked against `config`.
+    pub fn new(
+        config: BufferConfig,
+        storage: BufferStorage<'a, M, A>,
+    ) -> Result<Self, BufferError> {
+        if config.main_slots == 0 {
+            return Err(BufferError::NoMainSlot);
+        }
+        if config.width == 0 || config.band_height == 0 {
+            return Err(BufferError::EmptyBand);
+        }
+        if config.pixel_capacity() > u8::MAX as usize {
+            return Err(BufferError::PixelCapacityTooLarge);
+        }
+        let checks = [
+            (0u8, config.pixels(), storage.counts.len()),
+            (1, config.main_slot_count(), storage.main.len()),
+            (2, config.address_count(), storage.addresses.len()),
+        ];
+        for (slice, expected, actual) in checks {
+            if expected != actual {
+                return Err(BufferError::StorageLength {
+                    slice,
+                    expected,
+                    actual,
+                });
+            }
+        }
+        if storage.pool.len() > A::MAX_POOL {
+            return Err(BufferError::PoolTooLarge { max: A::MAX_POOL });
+        }
+        storage.counts.fill(0);
+        Ok(Self {
+            config,
+            counts: storage.counts,
+            main: storage.main,
+            addresses: storage.addresses,
+            pool: SharedPool::new(storage.pool),
+            rows: config.band_height,
+            stats: BufferStats::default(),
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &BufferConfig {
+        &self.config
+    }
+
+    /// The shared pool.
+    pub fn pool(&self) -> &SharedPool<'a, M> {
+        &self.pool
+    }
+
+    /// The fragments of pixel `(x, row)`, nearest first.
+    pub fn fragments(&self, x: u16, row: u16) -> impl Iterator<Item = Fragment<M>> + '_ {
+        let p = self.pixel_index(x, row);
+        (0..self.counts[p] as usize).map(move |i| self.slot_ref(p, i).unpack())
+    }
+
+    #[inline]
+    fn pixel_index(&self, x: u16, row: u16) -> usize {
+        row as usize * self.config.width as usize + x as usize
+    }
+
+    #[inline]
+    fn locate(&self, p: usize, i: usize) -> Slot {
+        let n_main = self.config.main_slots as usize;
+        if i < n_main {
+            Slot::Main(p * n_main + i)
+        } else {
+            let a = self.addresses[p * self.config.extra_addresses as usize + (i - n_main)];
+            Slot::Pool(a.index())
+        }
+    }
+
+    #[inline]
+    fn slot_ref(&self, p: usize, i: usize) -> &PackedFragment<M> {
+        match self.locate(p, i) {
+            Slot::Main(s) => &self.main[s],
+            Slot::Pool(s) => self.pool.get(s),
+        }
+    }
+
+    #[inline]
+    fn slot_mut(&mut self, p: usize, i: usize) -> &mut PackedFragment<M> {
+        match self.locate(p, i) {
+            Slot::Main(s) => &mut self.main[s],
+            Slot::Pool(s) => self.pool.get_mut(s),
+        }
+    }
+
+    #[inline]
+    fn read(&self, p: usize, i: usize) -> PackedFragment<M> {
+        *self.slot_ref(p, i)
+    }
+
+    #[inline]
+    fn write(&mut self, p: usize, i: usize, f: PackedFragment<M>) {
+        *self.slot_mut(p, i) = f;
+    }
+
+    /// Moves list positions `from..to` one place later (position `to` is overwritten).
+    fn shift_later(&mut self, p: usize, from: usize, to: usize) {
+        let mut j = to;
+        while j > from {
+            let f = self.read(p, j - 1);
+            self.write(p, j, f);
+            j -= 1;
+        }
+    }
+
+    /// Moves list positions `from+1..=to` one place earlier (position `from` is overwritten).
+    fn shift_earlier(&mut self, p: usize, from: usize, to: usize) {
+        for j in from..to {
+            let f = self.read(p, j + 1);
+            self.write(p, j, f);
+        }
+    }
+
+    /// Removes fragments with empty masks from pixel `p`'s first `n` positions,
+    /// frees the pool slots no longer needed, and returns the new count.
+    fn compact(&mut self, p: usize, n: usize) -> usize {
+        let mut kept = 0;
+        for i in 0..n {
+            let f = self.read(p, i);
+            if !f.mask().is_empty() {
+                if kept != i {
+                    self.write(p, kept, f);
+                }
+                kept += 1;
+            }
+        }
+        self.stats.fragments_removed_hidden += (n - kept) as u64;
+        self.release_positions(p, kept, n);
+        kept
+    }
+
+    /// Frees the pool slots behind list positions `from..to` of pixel `p`.
+    fn release_positions(&mut self, p: usize, from: usize, to: usize) {
+        let n_main = self.config.main_slots as usize;
+        for i in from.max(n_main)..to {
+            let a = self.addresses[p * self.config.extra_addresses as usize + (i - n_main)];
+            self.pool.release(a.index());
+        }
+    }
+
+    /// Inserts `f` at list position `k` of pixel `p`, which holds `n` fragments and
+    /// has room for one more (a pool slot is allocated when `n >= N_main`).
+    fn insert_at(&mut self, p: usize, n: usize, k: usize, f: &Fragment<M>) -> bool {
+        let n_main = self.config.main_slots as usize;
+        if n >= n_main {
+            let Some(slot) = self.pool.allocate() else {
+                return false;
+            };
+            self.addresses[p * self.config.extra_addresses as usize + (n - n_main)] =
+                A::from_index(slot);
+        }
+        self.shift_later(p, k, n);
+        self.write(p, k, PackedFragment::pack(f));
+        true
+    }
+
+    /// Handles a survivor `f` (sorted position `k`) that finds pixel `p` full with
+    /// `n >= 1` fragments. The list keeps `n` fragments.
+    fn overflow(&mut self, p: usize, n: usize, k: usize, f: &Fragment<M>) {
+        // The virtual list L has n + 1 entries: the stored ones with f at position k.
+        match self.config.policy {
+            OverflowPolicy::MergeFarthest => self.merge_pair(p, k, f, n - 1),
+            OverflowPolicy::MergeClosest => {
+                let z_at = |s: &Self, i: usize| -> u32 {
+                    if i < k {
+                        s.slot_ref(p, i).z()
+                    } else if i == k {
+                        f.z
+                    } else {
+                        s.slot_ref(p, i - 1).z()
+                    }
+                };
+                let mut best = n - 1;
+                let mut best_gap = u32::MAX;
+                for i in 0..n {
+                    let gap = z_at(self, i + 1) - z_at(self, i);
+                    if gap <= best_gap {
+                        best_gap = gap;
+                        best = i;
+                    }
+                }
+                self.merge_pair(p, k, f, best);
+            }
+            OverflowPolicy::Discard => {
+                // The two farthest are L[n-1] and L[n]; drop the smaller coverage.
+                let entry = |s: &Self, i: usize| {
+                    if i == k {
+                        *f
+                    } else {
+                        s.read(p, if i < k { i } else { i - 1 }).unpack()
+                    }
+                };
+                let (near, far) = (entry(self, n - 1), entry(self, n));
+                let drop = if far.mask.count() <= near.mask.count() {
+                    n
+                } else {
+                    n - 1
+                };
+                self.stats.fragments_discarded += 1;
+                if drop == k {
+                    return;
+                }
+                let stored = if drop < k { drop } else { drop - 1 };
+                self.shift_earlier(p, stored, n - 1);
+                let k_after = if stored < k { k - 1 } else { k };
+                self.shift_later(p, k_after, n - 1);
+                self.write(p, k_after, PackedFragment::pack(f));
+                self.stats.fragments_stored += 1;
+            }
+        }
+    }
+
+    /// Merges entries `i` and `i + 1` of the virtual list (stored fragments with `f`
+    /// at position `k`) and writes the resulting entries back (the count is unchanged).
+    fn merge_pair(&mut self, p: usize, k: usize, f: &Fragment<M>, i: usize) {
+        let entry = |s: &Self, j: usize| {
+            if j == k {
+                *f
+            } else {
+                s.read(p, if j < k { j } else { j - 1 }).unpack()
+            }
+        };
+        let merged = merge_fragments(&entry(self, i), &entry(self, i + 1));
+        let merged = PackedFragment::pack(&merged);
+        if k <= i {
+            // Stored k..i-1 move one later; the merged one lands at i; f at k (if k < i).
+            self.shift_later(p, k, i.saturating_sub(1).max(k));
+            self.write(p, i, merged);
+            if k < i {
+                self.write(p, k, PackedFragment::pack(f));
+            }
+        } else if k == i + 1 {
+            self.write(p, i, merged);
+        } else {
+            // Stored i+2..k-1 move one earlier; f lands at k-1.
+            self.write(p, i, merged);
+            self.shift_earlier(p, i + 1, k - 1);
+            self.write(p, k - 1, PackedFragment::pack(f));
+        }
+        self.stats.merges += 1;
+        self.stats.fragments_stored += 1;
+    }
+}
+
+impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A> {
+    fn width(&self) -> u16 {
+        self.config.width
+    }
+
+    fn band_height(&self) -> u16 {
+        self.config.band_height
+    }
+
+    fn begin_band(&mut self, _y0: u16, rows: u16) {
+        self.rows = rows.min(self.config.band_height);
+        let used = self.config.width as usize * self.rows as usize;
+        self.counts[..used].fill(0);
+        self.pool.reset();
+    }
+
+    fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
+        self.stats.fragments_generated += 1;
+        let p = self.pixel_index(x, row);
+        let mut f = *fragment;
+        let mut n = self.counts[p] as usize;
+        // Settle every shared sample with each stored fragment (their masks are disjoint,
+        // so the order of comparison does not matter).
+        let mut emptied = false;
+        for i in 0..n {
+            let stored = self.read(p, i);
+            let overlap = stored.mask() & f.mask;
+            if overlap.is_empty() {
+                continue;
+            }
+            let b = stored.unpack();
+            let vis = visibility_mask(&f, &b);
+            let b_mask = b.mask & !(overlap & vis);
+            f.mask = f.mask & !(overlap & !vis);
+            if b_mask != b.mask {
+                self.slot_mut(p, i).set_mask(b_mask);
+                emptied |= b_mask.is_empty();
+            }
+            if f.mask.is_empty() {
+                break;
+            }
+        }
+        if emptied {
+            n = self.compact(p, n);
+        }
+        if f.mask.is_empty() {
+            self.stats.fragments_hidden_on_arrival += 1;
+            self.counts[p] = n as u8;
+            return;
+        }
+        // Sorted position: after every stored fragment at the same or nearer depth.
+        let mut k = n;
+        for i in 0..n {
+            if self.slot_ref(p, i).z() > f.z {
+                k = i;
+                break;
+            }
+        }
+        if n < self.config.pixel_capacity() && self.insert_at(p, n, k, &f) {
+            n += 1;
+            self.stats.fragments_stored += 1;
+        } else {
+            self.overflow(p, n, k, &f);
+        }
+        self.counts[p] = n as u8;
+        self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(n as u32);
+        self.stats.pool_peak = self.stats.pool_peak.max(self.pool.peak() as u32);
+    }
+
+    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+        let width = self.config.width as usize;
+        let start = row as usize * width;
+        let half = (M::SAMPLES / 2) as u32;
+        for (x, px) in out.iter_mut().enumerate().take(width) {
+            let p = start + x;
+            let n = self.counts[p] as usize;
+            if n == 0 {
+                *px = background;
+                continue;
+            }
+            let (mut r, mut g, mut b, mut covered) = (0u32, 0u32, 0u32, 0u32);
+            for i in 0..n {
+                let f = self.slot_ref(p, i).unpack();
+                let k = f.mask.count();
+                r += f.color.r() as u32 * k;
+                g += f.color.g() as u32 * k;
+                b += f.color.b() as u32 * k;
+                covered += k;
+            }
+            let rest = M::SAMPLES - covered.min(M::SAMPLES);
+            let shift = M::SAMPLES_LOG2;
+            *px = Rgb888::new(
+                ((r + background.r() as u32 * rest + half) >> shift) as u8,
+                ((g + background.g() as u32 * rest + half) >> shift) as u8,
+                ((b + background.b() as u32 * rest + half) >> shift) as u8,
+            );
+        }
+    }
+
+    fn end_band(&mut self) {
+        let used = self.config.width as usize * self.rows as usize;
+        self.counts[..used].fill(0);
+        self.pool.reset();
+    }
+
+    fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
+        self.counts[self.pixel_index(x, row)] as u32
+    }
+
+    fn stats(&self) -> BufferStats {
+        self.stats
+    }
+
+    fn take_stats(&mut self) -> BufferStats {
+        let s = self.stats;
+        self.stats = BufferStats::default();
+        self.pool.clear_peak();
+        s
+    }
+}

@@ -1,0 +1,128 @@
+//! Rasterization: walks a set-up triangle's pixels within a band, builds each
+//! pixel's coverage mask from the signs of the edge functions at the samples, and
+//! hands one fragment per covered pixel to a [`BandBuffer`].
+//!
+//! Per pixel, the three edge values at the center decide cheaply: when every edge
+//! clears the center by more than the farthest sample offset, the mask is full
+//! (interior pixel); when one edge is below minus that margin, it is empty. Only
+//! the remaining pixels evaluate samples, stepping each edge function across the
+//! grid with additions (SPEC section 2).
+
+use crate::band_buffer::BandBuffer;
+use crate::coverage::CoverageMask;
+use crate::fixed_point::DEPTH_MAX;
+use crate::fragment::Fragment;
+use crate::setup::{ColorPlanes, Edge, TriangleSetup};
+use embedded_graphics_core::pixelcolor::Rgb888;
+
+/// Samples where one edge function (value `e` at the pixel center, already biased)
+/// is non-negative.
+#[inline]
+pub fn edge_mask<M: CoverageMask>(e: i64, edge: &Edge) -> M {
+    // Near an edge |e| is below the margin (< 2^22), so 32 bits suffice.
+    let a = edge.a as i32;
+    let b = edge.b as i32;
+    let mut row_value = e as i32 + a * M::offset_x(0) + b * M::offset_y(0);
+    let step_x = a * (16 / M::COLS as i32);
+    let step_y = b * (16 / M::ROWS as i32);
+    let mut bits = 0u64;
+    let mut bit = 0;
+    for _ in 0..M::ROWS {
+        let mut value = row_value;
+        for _ in 0..M::COLS {
+            bits |= ((value >= 0) as u64) << bit;
+            bit += 1;
+            value += step_x;
+        }
+        row_value += step_y;
+    }
+    M::from_u64(bits)
+}
+
+/// Coverage of the pixel whose center has edge values `e`, given each edge's
+/// margin (the largest change of that edge from the center to a sample).
+#[inline]
+pub fn pixel_coverage<M: CoverageMask>(e: &[i64; 3], edges: &[Edge; 3], margin: &[i64; 3]) -> M {
+    let mut mask = M::FULL;
+    for i in 0..3 {
+        if e[i] >= margin[i] {
+            continue;
+        }
+        if e[i] < -margin[i] {
+            return M::EMPTY;
+        }
+        mask = mask & edge_mask::<M>(e[i], &edges[i]);
+    }
+    mask
+}
+
+#[inline]
+fn channel(v: i64) -> u8 {
+    ((v + (1 << 15)) >> 16).clamp(0, 255) as u8
+}
+
+/// Rasterizes the rows of `setup` that fall in the band starting at image row
+/// `band_y0` with `band_rows` rows, inserting fragments into `buffer`.
+pub fn rasterize<M: CoverageMask, B: BandBuffer<M>>(
+    setup: &TriangleSetup,
+    band_y0: u16,
+    band_rows: u16,
+    buffer: &mut B,
+) {
+    let band_last = band_y0 as u32 + band_rows as u32 - 1;
+    let y_first = setup.y0.max(band_y0);
+    let y_last = (setup.y1 as u32).min(band_last) as u16;
+    if band_rows == 0 || y_first > y_last || setup.x0 > setup.x1 {
+        return;
+    }
+    let margin = setup
+        .edges
+        .map(|e| e.a.abs() * M::max_offset_x() as i64 + e.b.abs() * M::max_offset_y() as i64);
+    let step_x = setup.edges.map(|e| e.a << 4);
+    let step_y = setup.edges.map(|e| e.b << 4);
+    for y in y_first..=y_last {
+        let dy = (y - setup.y0) as i64;
+        let mut e = [0i64; 3];
+        for i in 0..3 {
+            e[i] = setup.edges[i].origin + dy * step_y[i];
+        }
+        let mut z = setup.depth.origin + dy * setup.depth.dy;
+        let mut planes = match setup.colors {
+            ColorPlanes::Linear(p) => [
+                p[0].origin + dy * p[0].dy,
+                p[1].origin + dy * p[1].dy,
+                p[2].origin + dy * p[2].dy,
+            ],
+            ColorPlanes::Constant(_) => [0; 3],
+        };
+        let row = y - band_y0;
+        for x in setup.x0..=setup.x1 {
+            let mask = pixel_coverage::<M>(&e, &setup.edges, &margin);
+            if !mask.is_empty() {
+                let color = match setup.colors {
+                    ColorPlanes::Constant(c) => c,
+                    ColorPlanes::Linear(_) => {
+                        Rgb888::new(channel(planes[0]), channel(planes[1]), channel(planes[2]))
+                    }
+                };
+                let fragment = Fragment {
+                    mask,
+                    z: ((z + (1 << 15)) >> 16).clamp(0, DEPTH_MAX as i64) as u32,
+                    dzdx: setup.dzdx,
+                    dzdy: setup.dzdy,
+                    color,
+                };
+                buffer.insert(x, row, &fragment);
+            }
+            for i in 0..3 {
+                e[i] += step_x[i];
+            }
+            z += setup.depth.dx;
+            if let ColorPlanes::Linear(p) = &setup.colors {
+                for c in 0..3 {
+                    planes[c] += p[c].dx;
+                }
+            }
+        }
+    }
+}

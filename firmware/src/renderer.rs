@@ -1,0 +1,542 @@
+//! The frame driver: transforms every vertex once, bins triangles by their first
+//! row, then renders the image band by band into a [`BandBuffer`] and streams the
+//! resolved lines to a [`LineSink`].
+//!
+//! Order of work within a pixel is the same for every band height: triangles are
+//! visited sorted by their first row (then by scene order), and each band sees the
+//! active ones in that order. Only the band's pixel memory depends on `R`.
+
+use crate::band_buffer::BandBuffer;
+use crate::clip::{clip_triangle, ClipVertex};
+use crate::coverage::CoverageMask;
+use crate::fixed_point::{Coord, SUBPIXEL_BITS};
+use crate::geometry::{outcode, project, ObjectTransform, ViewBasis};
+use crate::lighting::{color_q8, normalize_unit, LightSetup};
+use crate::raster::rasterize;
+use crate::scene::{Scene, SceneError, Shading};
+use crate::setup::{
+    is_backfacing, signed_area2, ColorSource, Rejection, SetupVertex, TriangleSetup,
+};
+use crate::sink::LineSink;
+use crate::stats::{FrameStats, GeometryStats};
+use embedded_graphics_core::pixelcolor::Rgb888;
+
+/// A vertex after transformation: window position, outcode and lit color.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ScreenVertex {
+    /// x in 1/16 pixel (valid when `outcode == 0`).
+    pub x: i32,
+    /// y in 1/16 pixel (valid when `outcode == 0`).
+    pub y: i32,
+    /// Depth, 24 fraction bits (valid when `outcode == 0`).
+    pub z: u32,
+    /// Vertex color (lit, or the object's color).
+    pub color: [u8; 3],
+    /// Clip planes the vertex is outside of.
+    pub outcode: u8,
+}
+
+/// Per-object state of the current frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ObjectFrame {
+    /// Model to clip space and normal transform.
+    pub transform: ObjectTransform,
+    /// Index of the object's first vertex in the vertex array.
+    pub vertex_base: u32,
+    /// Index of the object's first triangle over all objects.
+    pub triangle_base: u32,
+}
+
+/// Working memory of a frame, borrowed from the caller (static arrays on a device).
+pub struct FrameWorkspace<'a> {
+    /// One entry per scene object.
+    pub objects: &'a mut [ObjectFrame],
+    /// One entry per vertex over all objects.
+    pub vertices: &'a mut [ScreenVertex],
+    /// One entry per triangle over all objects: its first row, or a skip mark.
+    pub triangle_rows: &'a mut [u16],
+    /// One entry per triangle: the visiting order (object << 24 | triangle).
+    pub triangle_order: &'a mut [u32],
+    /// `height + 1` entries for the counting sort by first row.
+    pub row_starts: &'a mut [u32],
+    /// `width` colors: the line being resolved.
+    pub line: &'a mut [Rgb888],
+}
+
+/// Which workspace array is too small.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum WorkspacePart {
+    /// `objects`.
+    Objects,
+    /// `vertices`.
+    Vertices,
+    /// `triangle_rows` or `triangle_order`.
+    Triangles,
+    /// `row_starts`.
+    Rows,
+    /// `line`.
+    Line,
+}
+
+/// Why a frame could not be rendered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RenderError<E> {
+    /// The scene is invalid.
+    Scene(SceneError),
+    /// A workspace array is smaller than the scene needs.
+    Workspace {
+        /// Which array.
+        part: WorkspacePart,
+        /// Entries needed.
+        needed: usize,
+        /// Entries available.
+        available: usize,
+    },
+    /// The band buffer's width differs from the image width.
+    BufferWidth {
+        /// Buffer width.
+        buffer: u16,
+        /// Image width.
+        image: u16,
+    },
+    /// Too many objects or triangles in one object for the order encoding.
+    TooManyObjects,
+    /// The sink failed.
+    Sink(E),
+}
+
+impl<E: core::fmt::Debug> core::fmt::Display for RenderError<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::Scene(e) => write!(f, "invalid scene: {e}"),
+            Self::Workspace {
+                part,
+                needed,
+                available,
+            } => {
+                write!(
+                    f,
+                    "workspace {part:?} holds {available} entries, the scene needs {needed}"
+                )
+            }
+            Self::BufferWidth { buffer, image } => {
+                write!(f, "band buffer is {buffer} pixels wide, image is {image}")
+            }
+            Self::TooManyObjects => {
+                write!(f, "at most 255 objects of at most 16777215 triangles each")
+            }
+            Self::Sink(e) => write!(f, "line sink failed: {e:?}"),
+        }
+    }
+}
+
+/// Per-frame options.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameOptions {
+    /// Extra rotation of every object about the world Y axis, degrees (turntables).
+    pub turntable_deg: Coord,
+}
+
+const SKIP_ROW: u16 = u16::MAX;
+const OBJECT_SHIFT: u32 = 24;
+const TRIANGLE_MASK: u32 = (1 << OBJECT_SHIFT) - 1;
+
+struct FrameContext<'s, 'a> {
+    scene: &'s Scene<'a>,
+    light: Option<LightSetup>,
+}
+
+impl FrameContext<'_, '_> {
+    fn shading(&self, object: usize) -> Shading {
+        if self.light.is_some() {
+            self.scene.objects[object].shading
+        } else {
+            Shading::Unlit
+        }
+    }
+}
+
+fn check<E>(part: WorkspacePart, needed: usize, available: usize) -> Result<(), RenderError<E>> {
+    if available < needed {
+        Err(RenderError::Workspace {
+            part,
+            needed,
+            available,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+/// Renders one frame of `scene` band by band through `buffer` into `sink`.
+///
+/// `on_band(y0, rows, buffer)` is called after each band's fragments are in, before
+/// it is resolved (for depth-complexity maps; pass `|_, _, _| {}` otherwise).
+pub fn render_frame<M, B, S, F>(
+    scene: &Scene<'_>,
+    options: &FrameOptions,
+    ws: &mut FrameWorkspace<'_>,
+    buffer: &mut B,
+    sink: &mut S,
+    mut on_band: F,
+) -> Result<FrameStats, RenderError<S::Error>>
+where
+    M: CoverageMask,
+    B: BandBuffer<M>,
+    S: LineSink,
+    F: FnMut(u16, u16, &B),
+{
+    scene.validate().map_err(RenderError::Scene)?;
+    let n_vertices = scene.vertex_count();
+    let n_triangles = scene.triangle_count();
+    check(
+        WorkspacePart::Objects,
+        scene.objects.len(),
+        ws.objects.len(),
+    )?;
+    check(WorkspacePart::Vertices, n_vertices, ws.vertices.len())?;
+    check(
+        WorkspacePart::Triangles,
+        n_triangles,
+        ws.triangle_rows.len().min(ws.triangle_order.len()),
+    )?;
+    check(
+        WorkspacePart::Rows,
+        scene.height as usize + 1,
+        ws.row_starts.len(),
+    )?;
+    check(WorkspacePart::Line, scene.width as usize, ws.line.len())?;
+    if buffer.width() != scene.width {
+        return Err(RenderError::BufferWidth {
+            buffer: buffer.width(),
+            image: scene.width,
+        });
+    }
+    if scene.objects.len() > 255
+        || scene
+            .objects
+            .iter()
+            .any(|o| o.mesh.triangles.len() > TRIANGLE_MASK as usize)
+    {
+        return Err(RenderError::TooManyObjects);
+    }
+    let view = ViewBasis::new(&scene.camera).ok_or(RenderError::Scene(SceneError::CameraBasis))?;
+    let ctx = FrameContext {
+        scene,
+        light: scene.light.as_ref().map(|l| LightSetup::new(l, &view)),
+    };
+    let mut stats = FrameStats::default();
+    stats.geometry.triangles_in = n_triangles as u32;
+
+    transform_vertices(&ctx, &view, options, ws);
+    let binned = bin_triangles(&ctx, ws, &mut stats.geometry);
+
+    // Bands.
+    let (width, height) = (scene.width, scene.height);
+    let band_height = buffer.band_height().max(1);
+    let mut active = 0usize;
+    let mut next = 0usize;
+    let mut y0 = 0u16;
+    while y0 < height {
+        let rows = band_height.min(height - y0);
+        let y_end = y0 + rows;
+        buffer.begin_band(y0, rows);
+        stats.bands += 1;
+        // Drop triangles that ended above this band, keeping the order.
+        let mut kept = 0;
+        for i in 0..active {
+            let t = ws.triangle_order[i];
+            if last_row(&ctx, ws, t) >= y0 as i32 {
+                ws.triangle_order[kept] = t;
+                kept += 1;
+            }
+        }
+        active = kept;
+        // Add triangles that start in this band.
+        while next < binned {
+            let t = ws.triangle_order[next];
+            if ws.triangle_rows[global_index(ws.objects, t)] >= y_end {
+                break;
+            }
+            ws.triangle_order[active] = t;
+            active += 1;
+            next += 1;
+        }
+        for i in 0..active {
+            let t = ws.triangle_order[i];
+            draw_triangle(&ctx, ws, t, y0, rows, buffer, &mut stats.geometry);
+        }
+        on_band(y0, rows, buffer);
+        for row in 0..rows {
+            buffer.resolve_row(row, scene.background, &mut ws.line[..width as usize]);
+            sink.write_line(y0 + row, &ws.line[..width as usize])
+                .map_err(RenderError::Sink)?;
+        }
+        buffer.end_band();
+        y0 = y_end;
+    }
+    stats.buffer = buffer.take_stats();
+    Ok(stats)
+}
+
+fn transform_vertices(
+    ctx: &FrameContext<'_, '_>,
+    view: &ViewBasis,
+    options: &FrameOptions,
+    ws: &mut FrameWorkspace<'_>,
+) {
+    let scene = ctx.scene;
+    let mut base = 0u32;
+    let mut triangle_base = 0u32;
+    for (oi, object) in scene.objects.iter().enumerate() {
+        let transform = ObjectTransform::new(
+            &scene.camera,
+            view,
+            scene.width,
+            scene.height,
+            &object.transform,
+            options.turntable_deg,
+        );
+        ws.objects[oi] = ObjectFrame {
+            transform,
+            vertex_base: base,
+            triangle_base,
+        };
+        triangle_base += object.mesh.triangles.len() as u32;
+        let shading = ctx.shading(oi);
+        let base_color = object.color;
+        let flat = [base_color.r(), base_color.g(), base_color.b()];
+        let mesh = &object.mesh;
+        for (i, p) in mesh.positions.iter().enumerate() {
+            let c = transform.to_clip(p);
+            let code = outcode(&c);
+            let (x, y, z) = if code == 0 { project(&c) } else { (0, 0, 0) };
+            let color = match (shading, &ctx.light) {
+                (Shading::Gouraud, Some(light)) => {
+                    let n = mesh.normals[i].map(|v| v.to_bits() as i32);
+                    let lit = light.shade(&transform.normal_to_eye(&n), base_color);
+                    lit.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8)
+                }
+                _ => flat,
+            };
+            ws.vertices[base as usize + i] = ScreenVertex {
+                x,
+                y,
+                z,
+                color,
+                outcode: code,
+            };
+        }
+        base += mesh.positions.len() as u32;
+    }
+}
+
+use embedded_graphics_core::pixelcolor::RgbColor;
+
+#[inline]
+fn split(t: u32) -> (usize, usize) {
+    ((t >> OBJECT_SHIFT) as usize, (t & TRIANGLE_MASK) as usize)
+}
+
+#[inline]
+fn global_index(objects: &[ObjectFrame], t: u32) -> usize {
+    let (o, i) = split(t);
+    objects[o].triangle_base as usize + i
+}
+
+#[inline]
+fn corners_of(
+    ctx: &FrameContext<'_, '_>,
+    objects: &[ObjectFrame],
+    vertices: &[ScreenVertex],
+    t: u32,
+) -> [ScreenVertex; 3] {
+    let (o, i) = split(t);
+    let base = objects[o].vertex_base as usize;
+    let tri = ctx.scene.objects[o].mesh.triangles[i];
+    tri.map(|v| vertices[base + v as usize])
+}
+
+#[inline]
+fn corners(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> [ScreenVertex; 3] {
+    corners_of(ctx, ws.objects, ws.vertices, t)
+}
+
+/// The last image row a triangle may touch (clipped ones: the whole image).
+fn last_row(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> i32 {
+    let v = corners(ctx, ws, t);
+    if v.iter().any(|p| p.outcode != 0) {
+        return i32::MAX;
+    }
+    v.iter().map(|p| p.y).max().unwrap_or(0) >> SUBPIXEL_BITS
+}
+
+fn setup_vertex(v: &ScreenVertex) -> SetupVertex {
+    SetupVertex {
+        x: v.x,
+        y: v.y,
+        z: v.z,
+        color: v.color.map(|c| (c as i32) << 8),
+    }
+}
+
+/// Sorts the visible triangles by first row (counting sort, stable), returns how many.
+fn bin_triangles(
+    ctx: &FrameContext<'_, '_>,
+    ws: &mut FrameWorkspace<'_>,
+    stats: &mut GeometryStats,
+) -> usize {
+    let scene = ctx.scene;
+    let (width, height) = (scene.width as i32, scene.height as i32);
+    let counts = &mut ws.row_starts[..height as usize + 1];
+    counts.fill(0);
+    let mut g = 0usize;
+    let mut binned = 0usize;
+    for (oi, object) in scene.objects.iter().enumerate() {
+        for ti in 0..object.mesh.triangles.len() {
+            let t = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
+            let v = corners_of(ctx, ws.objects, ws.vertices, t);
+            let and = v[0].outcode & v[1].outcode & v[2].outcode;
+            let or = v[0].outcode | v[1].outcode | v[2].outcode;
+            let row = if and != 0 {
+                stats.triangles_outside += 1;
+                SKIP_ROW
+            } else if or != 0 {
+                stats.triangles_clipped += 1;
+                0
+            } else {
+                let sv = v.map(|p| setup_vertex(&p));
+                let area2 = signed_area2(&sv);
+                let min_x = v.iter().map(|p| p.x).min().unwrap_or(0) >> SUBPIXEL_BITS;
+                let max_x = v.iter().map(|p| p.x).max().unwrap_or(0) >> SUBPIXEL_BITS;
+                let min_y = v.iter().map(|p| p.y).min().unwrap_or(0) >> SUBPIXEL_BITS;
+                let max_y = v.iter().map(|p| p.y).max().unwrap_or(0) >> SUBPIXEL_BITS;
+                if area2 == 0 {
+                    stats.triangles_degenerate += 1;
+                    SKIP_ROW
+                } else if object.cull_backfaces && is_backfacing(area2) {
+                    stats.triangles_backfacing += 1;
+                    SKIP_ROW
+                } else if max_x < 0 || max_y < 0 || min_x >= width || min_y >= height {
+                    stats.triangles_outside += 1;
+                    SKIP_ROW
+                } else {
+                    min_y.max(0) as u16
+                }
+            };
+            ws.triangle_rows[g] = row;
+            if row != SKIP_ROW {
+                counts[row as usize + 1] += 1;
+                binned += 1;
+            }
+            g += 1;
+        }
+    }
+    for r in 0..height as usize {
+        counts[r + 1] += counts[r];
+    }
+    let mut g = 0usize;
+    for (oi, object) in scene.objects.iter().enumerate() {
+        for ti in 0..object.mesh.triangles.len() {
+            let row = ws.triangle_rows[g];
+            if row != SKIP_ROW {
+                let slot = &mut ws.row_starts[row as usize];
+                ws.triangle_order[*slot as usize] = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
+                *slot += 1;
+            }
+            g += 1;
+        }
+    }
+    binned
+}
+
+fn color_source(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> ColorSource {
+    let (o, i) = split(t);
+    let object = &ctx.scene.objects[o];
+    match (ctx.shading(o), &ctx.light) {
+        (Shading::Gouraud, Some(_)) => ColorSource::Linear,
+        (Shading::Flat, Some(light)) => {
+            let tri = object.mesh.triangles[i];
+            let mut sum = [0i64; 3];
+            for v in tri {
+                let n = object.mesh.normals[v as usize].map(|c| c.to_bits() as i32);
+                let e = ws.objects[o].transform.normal_to_eye(&n);
+                for k in 0..3 {
+                    sum[k] += e[k] as i64;
+                }
+            }
+            match normalize_unit(sum) {
+                Some(n) => {
+                    let lit = light.shade(&n, object.color);
+                    let c = lit.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8);
+                    ColorSource::Constant(Rgb888::new(c[0], c[1], c[2]))
+                }
+                None => ColorSource::Constant(object.color),
+            }
+        }
+        _ => ColorSource::Constant(object.color),
+    }
+}
+
+fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
+    ctx: &FrameContext<'_, '_>,
+    ws: &FrameWorkspace<'_>,
+    t: u32,
+    y0: u16,
+    rows: u16,
+    buffer: &mut B,
+    stats: &mut GeometryStats,
+) {
+    let (o, i) = split(t);
+    let object = &ctx.scene.objects[o];
+    let v = corners(ctx, ws, t);
+    let colors = color_source(ctx, ws, t);
+    let (w, h) = (ctx.scene.width, ctx.scene.height);
+    let or = v[0].outcode | v[1].outcode | v[2].outcode;
+    if or == 0 {
+        stats.triangle_setups += 1;
+        if let Ok(setup) = TriangleSetup::new(
+            &v.map(|p| setup_vertex(&p)),
+            object.cull_backfaces,
+            colors,
+            w,
+            h,
+        ) {
+            rasterize(&setup, y0, rows, buffer);
+        }
+        return;
+    }
+    // Clipped path: transform the corners again at full range and cut the triangle.
+    let transform = &ws.objects[o].transform;
+    let tri = object.mesh.triangles[i];
+    let clip_in: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+        clip: transform.to_clip(&object.mesh.positions[tri[k] as usize]),
+        color: color_q8(Rgb888::new(v[k].color[0], v[k].color[1], v[k].color[2])),
+    });
+    let poly = clip_triangle(&clip_in, or);
+    if poly.len < 3 {
+        return;
+    }
+    let projected: [SetupVertex; crate::clip::MAX_CLIPPED_VERTICES] = core::array::from_fn(|k| {
+        if k < poly.len {
+            let (x, y, z) = project(&poly.vertices[k].clip);
+            SetupVertex {
+                x,
+                y,
+                z,
+                color: poly.vertices[k].color,
+            }
+        } else {
+            SetupVertex::default()
+        }
+    });
+    for k in 1..poly.len - 1 {
+        stats.triangle_setups += 1;
+        let fan = [projected[0], projected[k], projected[k + 1]];
+        match TriangleSetup::new(&fan, object.cull_backfaces, colors, w, h) {
+            Ok(setup) => rasterize(&setup, y0, rows, buffer),
+            Err(Rejection::Degenerate | Rejection::Backfacing | Rejection::Outside) => {}
+        }
+    }
+}

@@ -1,0 +1,243 @@
+//! The scene in the renderer's fixed-point form: meshes, objects, camera, light.
+//!
+//! Everything here is plain data that can live in flash (`static`) on a device or be
+//! built from files on the host. [`Scene::validate`] checks what the renderer relies
+//! on, so a bad scene is an error, never a panic or an out-of-bounds access.
+
+use crate::fixed_point::Coord;
+use embedded_graphics_core::pixelcolor::Rgb888;
+use fixed::types::I2F14;
+
+/// A unit normal in Q2.14.
+pub type Normal = [I2F14; 3];
+
+/// A triangle mesh: positions, one unit normal per position, and index triples
+/// (counter-clockwise seen from the front).
+#[derive(Clone, Copy, Debug)]
+pub struct Mesh<'a> {
+    /// Model-space positions.
+    pub positions: &'a [[Coord; 3]],
+    /// Unit normals, one per position.
+    pub normals: &'a [Normal],
+    /// Triangles as indices into `positions`.
+    pub triangles: &'a [[u32; 3]],
+}
+
+/// Position, orientation and size of an object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transform {
+    /// Translation, world units.
+    pub position: [Coord; 3],
+    /// Rotation in degrees about X, then Y, then Z.
+    pub rotation_deg: [Coord; 3],
+    /// Uniform scale (positive).
+    pub scale: Coord,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Self {
+            position: [Coord::ZERO; 3],
+            rotation_deg: [Coord::ZERO; 3],
+            scale: Coord::ONE,
+        }
+    }
+}
+
+/// How a surface gets its color.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Shading {
+    /// The object's color exactly; no lighting.
+    Unlit,
+    /// One lit color per triangle, from the mean of its vertex normals.
+    Flat,
+    /// Lit at the vertices, colors interpolated linearly across the triangle.
+    Gouraud,
+}
+
+/// A mesh placed in the world.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneObject<'a> {
+    /// The mesh.
+    pub mesh: Mesh<'a>,
+    /// Base color.
+    pub color: Rgb888,
+    /// Placement.
+    pub transform: Transform,
+    /// Skip triangles facing away from the camera.
+    pub cull_backfaces: bool,
+    /// Shading mode (without a scene light every mode draws unlit).
+    pub shading: Shading,
+}
+
+/// Look-at camera with a perspective projection (as `gluLookAt` + `gluPerspective`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: [Coord; 3],
+    /// Point looked at.
+    pub target: [Coord; 3],
+    /// Up direction.
+    pub up: [Coord; 3],
+    /// Vertical field of view, degrees.
+    pub fov_y_deg: Coord,
+    /// Near plane distance.
+    pub near: Coord,
+    /// Far plane distance.
+    pub far: Coord,
+}
+
+/// One white directional light; the viewer is at infinity (constant half vector).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    /// Direction towards the light, world space (any nonzero length).
+    pub direction: [Coord; 3],
+    /// Ambient coefficient.
+    pub ambient: Coord,
+    /// Diffuse coefficient.
+    pub diffuse: Coord,
+    /// Specular coefficient.
+    pub specular: Coord,
+    /// Blinn-Phong exponent.
+    pub shininess: u8,
+}
+
+/// A scene ready to render.
+#[derive(Clone, Copy, Debug)]
+pub struct Scene<'a> {
+    /// Image width in pixels.
+    pub width: u16,
+    /// Image height in pixels.
+    pub height: u16,
+    /// Color where nothing is drawn.
+    pub background: Rgb888,
+    /// The camera.
+    pub camera: Camera,
+    /// The light, if any.
+    pub light: Option<Light>,
+    /// Objects in drawing order.
+    pub objects: &'a [SceneObject<'a>],
+}
+
+/// The largest image side the renderer accepts (window coordinates must stay
+/// well inside the guard band).
+pub const MAX_IMAGE_SIDE: u16 = 2048;
+
+/// What is wrong with a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SceneError {
+    /// Width or height is 0 or above [`MAX_IMAGE_SIDE`].
+    ImageSize,
+    /// Near plane not positive, far not beyond near, or far beyond 1000 units.
+    ClipPlanes,
+    /// Field of view outside (1, 179) degrees.
+    FieldOfView,
+    /// Eye and target coincide, or up is parallel to the view direction.
+    CameraBasis,
+    /// An object's scale is not positive.
+    Scale {
+        /// Object index.
+        object: u16,
+    },
+    /// An object's mesh has a different number of normals than positions.
+    NormalCount {
+        /// Object index.
+        object: u16,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    IndexOutOfRange {
+        /// Object index.
+        object: u16,
+        /// Triangle index within the object's mesh.
+        triangle: u32,
+    },
+    /// The light direction is zero.
+    LightDirection,
+}
+
+impl core::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::ImageSize => write!(f, "image width and height must be 1..={MAX_IMAGE_SIDE}"),
+            Self::ClipPlanes => write!(f, "camera needs 0 < near < far <= 1000"),
+            Self::FieldOfView => write!(f, "field of view must be between 1 and 179 degrees"),
+            Self::CameraBasis => write!(
+                f,
+                "camera eye equals target, or up is parallel to the view direction"
+            ),
+            Self::Scale { object } => write!(f, "object {object}: scale must be positive"),
+            Self::NormalCount { object } => {
+                write!(f, "object {object}: mesh needs one normal per position")
+            }
+            Self::IndexOutOfRange { object, triangle } => {
+                write!(
+                    f,
+                    "object {object}: triangle {triangle} refers to a vertex that does not exist"
+                )
+            }
+            Self::LightDirection => write!(f, "light direction must not be zero"),
+        }
+    }
+}
+
+impl Scene<'_> {
+    /// Checks everything the renderer relies on.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        if self.width == 0
+            || self.height == 0
+            || self.width > MAX_IMAGE_SIDE
+            || self.height > MAX_IMAGE_SIDE
+        {
+            return Err(SceneError::ImageSize);
+        }
+        let c = &self.camera;
+        if c.near <= Coord::ZERO || c.far <= c.near || c.far > Coord::from_num(1000) {
+            return Err(SceneError::ClipPlanes);
+        }
+        if c.fov_y_deg < Coord::ONE || c.fov_y_deg > Coord::from_num(179) {
+            return Err(SceneError::FieldOfView);
+        }
+        if crate::geometry::ViewBasis::new(c).is_none() {
+            return Err(SceneError::CameraBasis);
+        }
+        if let Some(light) = &self.light {
+            if light.direction.iter().all(|d| *d == Coord::ZERO) {
+                return Err(SceneError::LightDirection);
+            }
+        }
+        for (i, o) in self.objects.iter().enumerate() {
+            let object = i as u16;
+            if o.transform.scale <= Coord::ZERO {
+                return Err(SceneError::Scale { object });
+            }
+            if o.mesh.normals.len() != o.mesh.positions.len() {
+                return Err(SceneError::NormalCount { object });
+            }
+            let n = o.mesh.positions.len() as u64;
+            if let Some(t) = o
+                .mesh
+                .triangles
+                .iter()
+                .position(|t| t.iter().any(|&v| v as u64 >= n))
+            {
+                return Err(SceneError::IndexOutOfRange {
+                    object,
+                    triangle: t as u32,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Vertices over all objects.
+    pub fn vertex_count(&self) -> usize {
+        self.objects.iter().map(|o| o.mesh.positions.len()).sum()
+    }
+
+    /// Triangles over all objects.
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(|o| o.mesh.triangles.len()).sum()
+    }
+}

@@ -1,0 +1,227 @@
+//! Triangle setup: edge functions with the top-left rule, the depth plane and the
+//! color planes, computed once per triangle (per band it touches).
+//!
+//! Edge function of the edge from `a` to `b`, for a point `p` in 1/16 pixel:
+//! `E(p) = (x_b - x_a)(y_p - y_a) - (y_b - y_a)(x_p - x_a) = A x_p + B y_p + C`.
+//! Vertices are ordered so that `E > 0` inside. A sample exactly on an edge
+//! (`E = 0`) is inside only for a top or a left edge (`A > 0`, or `A = 0` and
+//! `B > 0`, with y growing downward), so two triangles sharing an edge never both
+//! own a sample on it. The bias is folded into `C`, and "inside" is `E >= 0`.
+//!
+//! Ranges: vertices lie within the guard band, so `|A|, |B| < 2^18`, edge values
+//! at pixels in the band stay below 2^37, and depth-plane numerators below 2^43.
+
+use crate::fixed_point::{saturate, GUARD_BAND_PX, SUBPIXEL_BITS};
+use crate::fragment::GRADIENT_LIMIT;
+use crate::lighting::ColorQ8;
+use embedded_graphics_core::pixelcolor::Rgb888;
+
+/// A vertex in window coordinates, ready for setup.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SetupVertex {
+    /// x in 1/16 pixel.
+    pub x: i32,
+    /// y in 1/16 pixel (downward).
+    pub y: i32,
+    /// Depth, 24 fraction bits.
+    pub z: u32,
+    /// Color, Q8 (used by linear shading).
+    pub color: ColorQ8,
+}
+
+/// How fragment colors are produced across a triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColorSource {
+    /// One color for the whole triangle.
+    Constant(Rgb888),
+    /// Vertex colors interpolated linearly in screen space (Gouraud).
+    Linear,
+}
+
+/// One edge function, biased for the top-left rule.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Edge {
+    /// dE/dx per 1/16 pixel.
+    pub a: i64,
+    /// dE/dy per 1/16 pixel.
+    pub b: i64,
+    /// Biased value at the center of the bounding box's first pixel.
+    pub origin: i64,
+}
+
+/// A linear function over pixel centers, stepped by additions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Plane {
+    /// Value at the center of the bounding box's first pixel.
+    pub origin: i64,
+    /// Change per pixel in x.
+    pub dx: i64,
+    /// Change per pixel in y.
+    pub dy: i64,
+}
+
+/// Colors of a set-up triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColorPlanes {
+    /// A constant color.
+    Constant(Rgb888),
+    /// One plane per channel, values with 16 fraction bits.
+    Linear([Plane; 3]),
+}
+
+/// Why a triangle produced no setup.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rejection {
+    /// Zero area.
+    Degenerate,
+    /// Facing away and culled.
+    Backfacing,
+    /// Bounding box misses the screen.
+    Outside,
+}
+
+/// A triangle ready to rasterize.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TriangleSetup {
+    /// The three edges, inside where all are `>= 0`.
+    pub edges: [Edge; 3],
+    /// First pixel column of the bounding box (on screen).
+    pub x0: u16,
+    /// First pixel row of the bounding box (on screen).
+    pub y0: u16,
+    /// Last pixel column (inclusive).
+    pub x1: u16,
+    /// Last pixel row (inclusive).
+    pub y1: u16,
+    /// Depth at pixel centers with 16 extra fraction bits (depth units x 2^16).
+    pub depth: Plane,
+    /// Depth gradients as stored in fragments (depth units per pixel).
+    pub dzdx: i32,
+    /// See `dzdx`.
+    pub dzdy: i32,
+    /// Colors.
+    pub colors: ColorPlanes,
+}
+
+/// Whether a triangle with window-space area `area2` (twice the signed area, from
+/// [`signed_area2`]) faces away from the viewer.
+#[inline]
+pub fn is_backfacing(area2: i64) -> bool {
+    // Counter-clockwise in normalized device coordinates (y up) is clockwise in
+    // window coordinates (y down), which gives a negative area2.
+    area2 > 0
+}
+
+/// Twice the signed area of a window-space triangle, in (1/16 pixel)^2.
+#[inline]
+pub fn signed_area2(v: &[SetupVertex; 3]) -> i64 {
+    let (x0, y0) = (v[0].x as i64, v[0].y as i64);
+    (v[1].x as i64 - x0) * (v[2].y as i64 - y0) - (v[2].x as i64 - x0) * (v[1].y as i64 - y0)
+}
+
+/// The largest depth-plane step kept (a full depth range per pixel); steeper
+/// triangles are edge-on and cover almost nothing.
+const DEPTH_STEP_LIMIT: i64 = 1 << 40;
+
+impl TriangleSetup {
+    /// Sets up a triangle for a `width x height` screen.
+    pub fn new(
+        v: &[SetupVertex; 3],
+        cull_backfaces: bool,
+        colors: ColorSource,
+        width: u16,
+        height: u16,
+    ) -> Result<Self, Rejection> {
+        let area2 = signed_area2(v);
+        if area2 == 0 {
+            return Err(Rejection::Degenerate);
+        }
+        if cull_backfaces && is_backfacing(area2) {
+            return Err(Rejection::Backfacing);
+        }
+        // Order so that the edge functions are positive inside.
+        let v = if area2 > 0 {
+            [v[0], v[1], v[2]]
+        } else {
+            [v[0], v[2], v[1]]
+        };
+        let area2 = area2.abs();
+        let lim = (GUARD_BAND_PX << SUBPIXEL_BITS) as i64;
+        let xs = v.map(|p| (p.x as i64).clamp(-lim, lim));
+        let ys = v.map(|p| (p.y as i64).clamp(-lim, lim));
+        // Bounding box in pixels, clipped to the screen.
+        let min_x = xs.iter().min().copied().unwrap_or(0) >> SUBPIXEL_BITS;
+        let max_x = xs.iter().max().copied().unwrap_or(0) >> SUBPIXEL_BITS;
+        let min_y = ys.iter().min().copied().unwrap_or(0) >> SUBPIXEL_BITS;
+        let max_y = ys.iter().max().copied().unwrap_or(0) >> SUBPIXEL_BITS;
+        if max_x < 0 || max_y < 0 || min_x >= width as i64 || min_y >= height as i64 {
+            return Err(Rejection::Outside);
+        }
+        let x0 = min_x.max(0);
+        let y0 = min_y.max(0);
+        let x1 = max_x.min(width as i64 - 1);
+        let y1 = max_y.min(height as i64 - 1);
+        let half = 1i64 << (SUBPIXEL_BITS - 1);
+        let cx = (x0 << SUBPIXEL_BITS) + half;
+        let cy = (y0 << SUBPIXEL_BITS) + half;
+        let mut edges = [Edge::default(); 3];
+        for (i, e) in edges.iter_mut().enumerate() {
+            let (ia, ib) = (i, (i + 1) % 3);
+            let a = -(ys[ib] - ys[ia]);
+            let b = xs[ib] - xs[ia];
+            let top_left = a > 0 || (a == 0 && b > 0);
+            let c = -(a * xs[ia] + b * ys[ia]) - if top_left { 0 } else { 1 };
+            *e = Edge {
+                a,
+                b,
+                origin: a * cx + b * cy + c,
+            };
+        }
+        // Depth plane: z = z0 + gx (x - x0) + gy (y - y0), gradients per pixel x 2^16.
+        let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
+        let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
+        let dz1 = v[1].z as i64 - v[0].z as i64;
+        let dz2 = v[2].z as i64 - v[0].z as i64;
+        let shift = 16 + SUBPIXEL_BITS;
+        let gx = saturate(((dz1 * dy2 - dz2 * dy1) << shift) / area2, DEPTH_STEP_LIMIT);
+        let gy = saturate(((dx1 * dz2 - dx2 * dz1) << shift) / area2, DEPTH_STEP_LIMIT);
+        let depth = Plane {
+            origin: (((v[0].z as i64) << shift) + gx * (cx - xs[0]) + gy * (cy - ys[0]))
+                >> SUBPIXEL_BITS,
+            dx: gx,
+            dy: gy,
+        };
+        let round16 = |g: i64| saturate((g + (1 << 15)) >> 16, GRADIENT_LIMIT as i64) as i32;
+        let colors = match colors {
+            ColorSource::Constant(c) => ColorPlanes::Constant(c),
+            ColorSource::Linear => {
+                // Channels in Q8 at the vertices, planes with 16 fraction bits.
+                let shift = 8 + SUBPIXEL_BITS;
+                ColorPlanes::Linear(core::array::from_fn(|ch| {
+                    let c0 = v[0].color[ch] as i64;
+                    let dc1 = v[1].color[ch] as i64 - c0;
+                    let dc2 = v[2].color[ch] as i64 - c0;
+                    let gx = ((dc1 * dy2 - dc2 * dy1) << shift) / area2;
+                    let gy = ((dx1 * dc2 - dx2 * dc1) << shift) / area2;
+                    Plane {
+                        origin: ((c0 << shift) + gx * (cx - xs[0]) + gy * (cy - ys[0]))
+                            >> SUBPIXEL_BITS,
+                        dx: gx,
+                        dy: gy,
+                    }
+                }))
+            }
+        };
+        Ok(Self {
+            edges,
+            x0: x0 as u16,
+            y0: y0 as u16,
+            x1: x1 as u16,
+            y1: y1 as u16,
+            depth,
+            dzdx: round16(gx),
+            dzdy: round16(gy),
+            colors,
+        })
+    }
+}

@@ -1,0 +1,81 @@
+//! Where resolved lines go: a small trait, an adapter for any embedded-graphics
+//! display, and an in-memory image.
+
+use embedded_graphics_core::draw_target::DrawTarget;
+use embedded_graphics_core::geometry::{Point, Size};
+use embedded_graphics_core::pixelcolor::{Rgb565, Rgb888, RgbColor};
+use embedded_graphics_core::primitives::Rectangle;
+
+/// Receives the picture one finished line at a time, top to bottom within a band.
+pub trait LineSink {
+    /// Error of the underlying device.
+    type Error;
+    /// Takes image row `y`.
+    fn write_line(&mut self, y: u16, pixels: &[Rgb888]) -> Result<(), Self::Error>;
+}
+
+/// Streams lines to any embedded-graphics [`DrawTarget`] with RGB565 pixels
+/// (an SPI display driver, a simulator window, a framebuffer).
+pub struct DrawTargetSink<'a, D> {
+    target: &'a mut D,
+}
+
+impl<'a, D> DrawTargetSink<'a, D>
+where
+    D: DrawTarget<Color = Rgb565>,
+{
+    /// Wraps a draw target.
+    pub fn new(target: &'a mut D) -> Self {
+        Self { target }
+    }
+}
+
+impl<D> LineSink for DrawTargetSink<'_, D>
+where
+    D: DrawTarget<Color = Rgb565>,
+{
+    type Error = D::Error;
+
+    fn write_line(&mut self, y: u16, pixels: &[Rgb888]) -> Result<(), Self::Error> {
+        let area = Rectangle::new(Point::new(0, y as i32), Size::new(pixels.len() as u32, 1));
+        self.target
+            .fill_contiguous(&area, pixels.iter().map(|&c| Rgb565::from(c)))
+    }
+}
+
+/// Writes lines into a caller-owned RGB888 image (3 bytes per pixel, rows top to bottom).
+pub struct ImageSink<'a> {
+    width: u16,
+    pixels: &'a mut [u8],
+}
+
+/// A line did not fit the image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OutOfImage {
+    /// The row that was written.
+    pub y: u16,
+}
+
+impl<'a> ImageSink<'a> {
+    /// An image `width` pixels wide over `pixels` (length a multiple of `3 * width`).
+    pub fn new(width: u16, pixels: &'a mut [u8]) -> Self {
+        Self { width, pixels }
+    }
+}
+
+impl LineSink for ImageSink<'_> {
+    type Error = OutOfImage;
+
+    fn write_line(&mut self, y: u16, line: &[Rgb888]) -> Result<(), OutOfImage> {
+        let w = self.width as usize;
+        let start = y as usize * w * 3;
+        let row = self
+            .pixels
+            .get_mut(start..start + w * 3)
+            .ok_or(OutOfImage { y })?;
+        for (dst, c) in row.chunks_exact_mut(3).zip(line) {
+            dst.copy_from_slice(&[c.r(), c.g(), c.b()]);
+        }
+        Ok(())
+    }
+}

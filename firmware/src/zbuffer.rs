@@ -1,0 +1,100 @@
+//! The plain z-buffer: one sample at the pixel center, no antialiasing.
+
+use crate::band_buffer::BandBuffer;
+use crate::coverage::{CoverageMask, Mask1x1};
+use crate::fragment::Fragment;
+use crate::stats::BufferStats;
+use embedded_graphics_core::pixelcolor::Rgb888;
+
+/// Depth of an empty z-buffer pixel: farther than any fragment.
+pub const EMPTY_DEPTH: u32 = u32::MAX;
+
+/// A band of depths and colors, one per pixel.
+pub struct ZBuffer<'a> {
+    width: u16,
+    band_height: u16,
+    depth: &'a mut [u32],
+    color: &'a mut [Rgb888],
+    stats: BufferStats,
+}
+
+impl<'a> ZBuffer<'a> {
+    /// A z-buffer over `depth` and `color`, each of length `width * band_height`.
+    ///
+    /// Returns `None` when a slice has another length or a size is zero.
+    pub fn new(
+        width: u16,
+        band_height: u16,
+        depth: &'a mut [u32],
+        color: &'a mut [Rgb888],
+    ) -> Option<Self> {
+        let n = width as usize * band_height as usize;
+        if n == 0 || depth.len() != n || color.len() != n {
+            return None;
+        }
+        Some(Self {
+            width,
+            band_height,
+            depth,
+            color,
+            stats: BufferStats::default(),
+        })
+    }
+}
+
+impl BandBuffer<Mask1x1> for ZBuffer<'_> {
+    fn width(&self) -> u16 {
+        self.width
+    }
+
+    fn band_height(&self) -> u16 {
+        self.band_height
+    }
+
+    fn begin_band(&mut self, _y0: u16, rows: u16) {
+        let n = self.width as usize * rows.min(self.band_height) as usize;
+        self.depth[..n].fill(EMPTY_DEPTH);
+    }
+
+    #[inline]
+    fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<Mask1x1>) {
+        self.stats.fragments_generated += 1;
+        self.stats.depth_tests += 1;
+        let p = row as usize * self.width as usize + x as usize;
+        // Ties go to the later fragment, as in the A-buffer's visibility masks.
+        if fragment.mask == Mask1x1::FULL && fragment.z <= self.depth[p] {
+            if self.depth[p] != EMPTY_DEPTH {
+                self.stats.fragments_removed_hidden += 1;
+            }
+            self.depth[p] = fragment.z;
+            self.color[p] = fragment.color;
+            self.stats.fragments_stored += 1;
+            self.stats.max_fragments_in_pixel = 1;
+        } else {
+            self.stats.fragments_hidden_on_arrival += 1;
+        }
+    }
+
+    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+        let start = row as usize * self.width as usize;
+        for (x, px) in out.iter_mut().enumerate().take(self.width as usize) {
+            *px = if self.depth[start + x] == EMPTY_DEPTH {
+                background
+            } else {
+                self.color[start + x]
+            };
+        }
+    }
+
+    fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
+        (self.depth[row as usize * self.width as usize + x as usize] != EMPTY_DEPTH) as u32
+    }
+
+    fn stats(&self) -> BufferStats {
+        self.stats
+    }
+
+    fn take_stats(&mut self) -> BufferStats {
+        core::mem::take(&mut self.stats)
+    }
+}
