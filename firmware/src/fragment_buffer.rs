@@ -491,7 +491,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
         let width = self.config.width as usize;
         let start = row as usize * width;
-        let half = (M::SAMPLES / 2) as u32;
+        let half = M::SAMPLES / 2;
         for (x, px) in out.iter_mut().enumerate().take(width) {
             let p = start + x;
             let n = self.counts[p] as usize;

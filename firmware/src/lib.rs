@@ -18,6 +18,8 @@
 //! or [`zbuffer`], resolve, [`sink`]. [`renderer::render_frame`] drives it.
 #![cfg_attr(not(test), no_std)]
 #![warn(missing_docs)]
+// Matrix and per-channel arithmetic reads best with explicit indices.
+#![allow(clippy::needless_range_loop)]
 
 pub mod band_buffer;
 pub mod clip;

@@ -103,12 +103,16 @@ pub fn builtin_scene(name: &str, width: u32, height: u32) -> Option<SceneDesc> {
     let bare = name.strip_prefix("builtin:").unwrap_or(name);
     let objects = match bare {
         "spheres" => spheres_objects(),
-        "starfighter" => vec![object(
-            "builtin:starfighter",
-            builtin_mesh("starfighter").ok()?,
-            [200, 205, 210],
-            [-20.0, 145.0, 0.0],
-        )],
+        "starfighter" => vec![ObjectDesc {
+            // Every part is closed: faces turned away are hidden anyway.
+            cull_backfaces: true,
+            ..object(
+                "builtin:starfighter",
+                builtin_mesh("starfighter").ok()?,
+                [200, 205, 210],
+                [-20.0, 145.0, 0.0],
+            )
+        }],
         _ if bare == "teapot" || bare.starts_with("teapot:") => vec![object(
             &format!("builtin:{bare}"),
             builtin_mesh(bare).ok()?,
@@ -144,8 +148,8 @@ fn object(mesh_name: &str, mesh: MeshData, color: [u8; 3], rotation_deg: [f32; 3
         position: [0.0; 3],
         rotation_deg,
         scale: 1.0,
-        // The teapot is open (no lid seal, the spout is a hole), and the
-        // renderer should see the insides of intersecting parts anyway.
+        // The teapot is open (no lid seal, the spout is a hole), so its
+        // inside can be seen; closed meshes override this.
         cull_backfaces: false,
         shading: None,
     }
@@ -168,6 +172,8 @@ fn spheres_objects() -> Vec<ObjectDesc> {
         .map(|&(position, scale, color)| ObjectDesc {
             position,
             scale,
+            // Spheres are closed: their back halves are hidden anyway.
+            cull_backfaces: true,
             ..object(
                 &format!("builtin:sphere:{DEFAULT_SPHERE_LEVEL}"),
                 sphere.clone(),

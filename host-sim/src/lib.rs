@@ -3,6 +3,9 @@
 #![warn(missing_docs)]
 
 pub mod builtins;
+pub mod convert;
+pub mod image_io;
 pub mod obj;
+pub mod render;
 pub mod scene_desc;
 pub mod scene_file;

@@ -1,1 +1,214 @@
-fn main() {}
+//! `host-sim`: renders scenes with the `mcu_abuffer` library on the desktop.
+
+use clap::{Parser, Subcommand};
+use host_sim::builtins;
+use host_sim::convert::to_fixed;
+use host_sim::image_io::write_png;
+use host_sim::render::{render, Grid, Method, RenderConfig};
+use host_sim::scene_desc::SceneDesc;
+use host_sim::scene_file::load_scene_file;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "host-sim",
+    version,
+    about = "Desktop simulator and test program for the mcu-abuffer renderer"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Renders a scene to a PNG image and prints the frame statistics.
+    Render(RenderArgs),
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// A built-in scene (teapot, teapot:N, spheres, starfighter) or a scene file (.toml).
+    #[arg(long, default_value = "teapot")]
+    scene: String,
+    /// Output PNG file.
+    #[arg(long)]
+    out: PathBuf,
+    /// Image width (built-in scenes; a scene file sets its own unless given here).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Pixel memory method.
+    #[arg(long, value_enum, default_value_t = Method::Shared)]
+    method: Method,
+    /// Coverage mask grid (columns x rows).
+    #[arg(long, value_enum, default_value_t = Grid::G4x4)]
+    grid: Grid,
+    /// Main fragment slots per pixel (N_main), for shared and merge-closest.
+    #[arg(long, default_value_t = 1)]
+    main: u8,
+    /// Pool addresses per pixel (N_extra), for shared and merge-closest.
+    #[arg(long, default_value_t = 2)]
+    extra: u8,
+    /// Shared pool slots (N_pool); default: half the pixels of a band.
+    #[arg(long)]
+    pool: Option<usize>,
+    /// Fragment slots per pixel (N_fixed), for fixed-discard and fixed-merge.
+    #[arg(long, default_value_t = 3)]
+    fixed: u8,
+    /// Band height in rows (R).
+    #[arg(long, default_value_t = 16)]
+    band: u16,
+    /// Turntable angle in degrees (rotation of every object about the world Y axis).
+    #[arg(long, default_value_t = 0.0)]
+    angle: f32,
+    /// Also write the statistics as JSON to this file.
+    #[arg(long)]
+    stats_json: Option<PathBuf>,
+}
+
+fn load_scene(spec: &str, width: Option<u32>, height: Option<u32>) -> Result<SceneDesc, String> {
+    let mut desc = if spec.ends_with(".toml") || Path::new(spec).exists() {
+        load_scene_file(Path::new(spec)).map_err(|e| e.to_string())?
+    } else {
+        let w = width.unwrap_or(240);
+        let h = height.unwrap_or(240);
+        builtins::builtin_scene(spec, w, h).ok_or_else(|| {
+            format!(
+                "'{spec}' is neither a scene file nor a built-in scene (built-ins: {})",
+                builtins::BUILTIN_SCENES.join(", ")
+            )
+        })?
+    };
+    if let Some(w) = width {
+        desc.width = w;
+    }
+    if let Some(h) = height {
+        desc.height = h;
+    }
+    if !(1..=2048).contains(&desc.width) || !(1..=2048).contains(&desc.height) {
+        return Err(format!(
+            "image size {}x{} is outside 1..=2048",
+            desc.width, desc.height
+        ));
+    }
+    Ok(desc)
+}
+
+fn run_render(args: &RenderArgs) -> Result<(), String> {
+    if args.main == 0 && matches!(args.method, Method::Shared | Method::MergeClosest) {
+        return Err("--main must be at least 1".into());
+    }
+    if args.fixed == 0 && matches!(args.method, Method::FixedDiscard | Method::FixedMerge) {
+        return Err("--fixed must be at least 1".into());
+    }
+    if args.band == 0 {
+        return Err("--band must be at least 1".into());
+    }
+    let desc = load_scene(&args.scene, args.width, args.height)?;
+    let scene = to_fixed(&desc)?;
+    let config = RenderConfig {
+        method: args.method,
+        grid: args.grid,
+        main: args.main,
+        extra: args.extra,
+        pool: args.pool,
+        fixed: args.fixed,
+        band: args.band,
+    };
+    let out = render(&scene, &config, args.angle)?;
+    write_png(&args.out, out.width as u32, out.height as u32, &out.rgb)?;
+    let s = &out.stats;
+    let b = &s.buffer;
+    let g = &s.geometry;
+    println!(
+        "scene            {} ({} triangles, {}x{})",
+        args.scene,
+        scene.triangle_count(),
+        out.width,
+        out.height
+    );
+    println!(
+        "method           {:?} grid {:?} band {} pool {}",
+        args.method,
+        args.grid,
+        args.band.min(out.height),
+        out.pool_slots
+    );
+    println!(
+        "triangles        {} in, {} clipped, {} outside, {} back-facing, {} degenerate",
+        g.triangles_in,
+        g.triangles_clipped,
+        g.triangles_outside,
+        g.triangles_backfacing,
+        g.triangles_degenerate
+    );
+    println!(
+        "fragments        {} generated, {} stored, {} hidden on arrival, {} removed as hidden",
+        b.fragments_generated,
+        b.fragments_stored,
+        b.fragments_hidden_on_arrival,
+        b.fragments_removed_hidden
+    );
+    println!(
+        "overflow         {} merges, {} discarded",
+        b.merges, b.fragments_discarded
+    );
+    println!("pool peak        {}", b.pool_peak);
+    println!("max per pixel    {}", b.max_fragments_in_pixel);
+    println!("time             {:.2} ms", out.elapsed.as_secs_f64() * 1e3);
+    println!("wrote            {}", args.out.display());
+    if let Some(path) = &args.stats_json {
+        let json = serde_json::json!({
+            "scene": args.scene,
+            "triangles": scene.triangle_count(),
+            "width": out.width,
+            "height": out.height,
+            "config": config,
+            "pool_slots": out.pool_slots,
+            "milliseconds": out.elapsed.as_secs_f64() * 1e3,
+            "geometry": {
+                "triangles_in": g.triangles_in,
+                "triangles_clipped": g.triangles_clipped,
+                "triangles_outside": g.triangles_outside,
+                "triangles_backfacing": g.triangles_backfacing,
+                "triangles_degenerate": g.triangles_degenerate,
+                "triangle_setups": g.triangle_setups,
+            },
+            "fragments": {
+                "generated": b.fragments_generated,
+                "stored": b.fragments_stored,
+                "hidden_on_arrival": b.fragments_hidden_on_arrival,
+                "removed_hidden": b.fragments_removed_hidden,
+                "merges": b.merges,
+                "discarded": b.fragments_discarded,
+                "pool_peak": b.pool_peak,
+                "max_in_pixel": b.max_fragments_in_pixel,
+            },
+            "bands": s.bands,
+        });
+        std::fs::write(
+            path,
+            serde_json::to_string_pretty(&json).unwrap_or_default(),
+        )
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Render(args) => run_render(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

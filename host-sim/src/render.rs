@@ -1,0 +1,370 @@
+//! Running the library renderer on the desktop with vectors for its buffers.
+
+use crate::convert::FixedScene;
+use embedded_graphics_core::pixelcolor::Rgb888;
+use mcu_abuffer::band_buffer::BandBuffer;
+use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
+use mcu_abuffer::fixed_point::Coord;
+use mcu_abuffer::fragment::{Fragment, PackedFragment};
+use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
+use mcu_abuffer::pool::PoolAddress;
+use mcu_abuffer::renderer::{
+    render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
+};
+use mcu_abuffer::sink::ImageSink;
+use mcu_abuffer::stats::{BufferStats, FrameStats};
+use mcu_abuffer::zbuffer::ZBuffer;
+use std::time::{Duration, Instant};
+
+/// How pixels are stored and resolved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// The reference A-buffer: every pixel can hold one fragment per sample.
+    Unlimited,
+    /// Main slots + pool addresses + shared pool, merge the two farthest (the paper's method).
+    Shared,
+    /// `N_fixed` slots per pixel, overflow dropped.
+    FixedDiscard,
+    /// `N_fixed` slots per pixel, overflow merged (two farthest).
+    FixedMerge,
+    /// Like `shared`, merging the closest pair in depth.
+    MergeClosest,
+    /// One sample per pixel, no antialiasing.
+    Zbuffer,
+}
+
+/// The sample grid of coverage masks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum Grid {
+    /// 4 x 4 samples (16-bit masks).
+    #[value(name = "4x4")]
+    #[serde(rename = "4x4")]
+    G4x4,
+    /// 8 columns x 4 rows (32-bit masks).
+    #[value(name = "8x4")]
+    #[serde(rename = "8x4")]
+    G8x4,
+    /// 8 x 8 samples (64-bit masks).
+    #[value(name = "8x8")]
+    #[serde(rename = "8x8")]
+    G8x8,
+}
+
+impl Grid {
+    /// Samples per pixel.
+    pub fn samples(self) -> usize {
+        match self {
+            Grid::G4x4 => 16,
+            Grid::G8x4 => 32,
+            Grid::G8x8 => 64,
+        }
+    }
+}
+
+/// Buffer parameters of one rendering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct RenderConfig {
+    /// Method.
+    pub method: Method,
+    /// Sample grid.
+    pub grid: Grid,
+    /// `N_main` (shared, merge-closest).
+    pub main: u8,
+    /// `N_extra` (shared, merge-closest).
+    pub extra: u8,
+    /// `N_pool`; `None` picks [`default_pool`].
+    pub pool: Option<usize>,
+    /// `N_fixed` (fixed-discard, fixed-merge).
+    pub fixed: u8,
+    /// Band height `R`.
+    pub band: u16,
+}
+
+impl Default for RenderConfig {
+    fn default() -> Self {
+        Self {
+            method: Method::Shared,
+            grid: Grid::G4x4,
+            main: 1,
+            extra: 2,
+            pool: None,
+            fixed: 3,
+            band: 16,
+        }
+    }
+}
+
+/// The default pool for a band: one slot per two pixels of the band.
+pub fn default_pool(width: u16, band: u16) -> usize {
+    width as usize * band as usize / 2
+}
+
+/// What a rendering produced.
+#[derive(Clone, Debug)]
+pub struct RenderOutput {
+    /// Image width.
+    pub width: u16,
+    /// Image height.
+    pub height: u16,
+    /// RGB888 pixels, rows top to bottom.
+    pub rgb: Vec<u8>,
+    /// Frame statistics.
+    pub stats: FrameStats,
+    /// Fragments the rasterizer produced per pixel (depth complexity before visibility).
+    pub generated_per_pixel: Vec<u16>,
+    /// Fragments stored per pixel after all insertions (after visibility and merging).
+    pub stored_per_pixel: Vec<u8>,
+    /// Pool slots of the configuration (0 for fixed and z-buffer).
+    pub pool_slots: usize,
+    /// Wall time of the frame, including the buffers' setup.
+    pub elapsed: Duration,
+}
+
+/// Forwards to a band buffer and counts fragments per pixel over the whole image.
+struct CountingBuffer<'m, B> {
+    inner: B,
+    y0: u16,
+    generated: &'m mut [u16],
+}
+
+impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> {
+    fn width(&self) -> u16 {
+        self.inner.width()
+    }
+    fn band_height(&self) -> u16 {
+        self.inner.band_height()
+    }
+    fn begin_band(&mut self, y0: u16, rows: u16) {
+        self.y0 = y0;
+        self.inner.begin_band(y0, rows)
+    }
+    fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
+        let i = (self.y0 as usize + row as usize) * self.inner.width() as usize + x as usize;
+        self.generated[i] = self.generated[i].saturating_add(1);
+        self.inner.insert(x, row, fragment)
+    }
+    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+        self.inner.resolve_row(row, background, out)
+    }
+    fn end_band(&mut self) {
+        self.inner.end_band()
+    }
+    fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
+        self.inner.pixel_fragment_count(x, row)
+    }
+    fn stats(&self) -> BufferStats {
+        self.inner.stats()
+    }
+    fn take_stats(&mut self) -> BufferStats {
+        self.inner.take_stats()
+    }
+}
+
+struct Workspace {
+    objects: Vec<ObjectFrame>,
+    vertices: Vec<ScreenVertex>,
+    rows: Vec<u16>,
+    order: Vec<u32>,
+    row_starts: Vec<u32>,
+    line: Vec<Rgb888>,
+}
+
+impl Workspace {
+    fn for_scene(s: &FixedScene) -> Self {
+        let nv: usize = s.meshes.iter().map(|m| m.positions.len()).sum();
+        let nt = s.triangle_count();
+        let empty_object = ObjectFrame {
+            transform: mcu_abuffer::geometry::ObjectTransform {
+                clip: mcu_abuffer::geometry::ClipTransform {
+                    rows: [[0; 3]; 4],
+                    offsets: [0; 4],
+                },
+                normal: [[0; 3]; 3],
+            },
+            vertex_base: 0,
+            triangle_base: 0,
+        };
+        Self {
+            objects: vec![empty_object; s.meshes.len()],
+            vertices: vec![ScreenVertex::default(); nv],
+            rows: vec![0; nt],
+            order: vec![0; nt],
+            row_starts: vec![0; s.height as usize + 1],
+            line: vec![Rgb888::new(0, 0, 0); s.width as usize],
+        }
+    }
+
+    fn borrow(&mut self) -> FrameWorkspace<'_> {
+        FrameWorkspace {
+            objects: &mut self.objects,
+            vertices: &mut self.vertices,
+            triangle_rows: &mut self.rows,
+            triangle_order: &mut self.order,
+            row_starts: &mut self.row_starts,
+            line: &mut self.line,
+        }
+    }
+}
+
+/// Renders `scene` with `config`, turned by `turntable_deg` about the world Y axis.
+pub fn render(
+    scene: &FixedScene,
+    config: &RenderConfig,
+    turntable_deg: f32,
+) -> Result<RenderOutput, String> {
+    let start = Instant::now();
+    let (w, h) = (scene.width, scene.height);
+    let band = config.band.clamp(1, h);
+    let objects = scene.objects();
+    let lib_scene = scene.scene(&objects);
+    let options = FrameOptions {
+        turntable_deg: Coord::saturating_from_num(turntable_deg),
+    };
+    let mut ws = Workspace::for_scene(scene);
+    let mut rgb = vec![0u8; w as usize * h as usize * 3];
+    let mut generated = vec![0u16; w as usize * h as usize];
+    let mut stored = vec![0u8; w as usize * h as usize];
+    let mut pool_slots = 0;
+    let stats = {
+        let mut sink = ImageSink::new(w, &mut rgb);
+        let mut frame_ws = ws.borrow();
+        let counts = &mut stored;
+        macro_rules! run {
+            ($buffer:expr, $mask:ty) => {{
+                let mut counting = CountingBuffer {
+                    inner: $buffer,
+                    y0: 0,
+                    generated: &mut generated,
+                };
+                render_frame::<$mask, _, _, _>(
+                    &lib_scene,
+                    &options,
+                    &mut frame_ws,
+                    &mut counting,
+                    &mut sink,
+                    |y0, rows, b| {
+                        for row in 0..rows {
+                            for x in 0..w {
+                                let n = b.pixel_fragment_count(x, row).min(255) as u8;
+                                counts[(y0 + row) as usize * w as usize + x as usize] = n;
+                            }
+                        }
+                    },
+                )
+                .map_err(|e| e.to_string())?
+            }};
+        }
+        if config.method == Method::Zbuffer {
+            let mut depth = vec![0u32; w as usize * band as usize];
+            let mut color = vec![Rgb888::new(0, 0, 0); w as usize * band as usize];
+            let zb = ZBuffer::new(w, band, &mut depth, &mut color).ok_or("z-buffer storage")?;
+            run!(zb, Mask1x1)
+        } else {
+            let samples = config.grid.samples();
+            let (policy, main, extra, pool) = match config.method {
+                Method::Unlimited => {
+                    let extra = samples - 1;
+                    (
+                        OverflowPolicy::MergeFarthest,
+                        1u8,
+                        extra as u8,
+                        w as usize * band as usize * extra,
+                    )
+                }
+                Method::Shared => (
+                    OverflowPolicy::MergeFarthest,
+                    config.main,
+                    config.extra,
+                    config.pool.unwrap_or(default_pool(w, band)),
+                ),
+                Method::MergeClosest => (
+                    OverflowPolicy::MergeClosest,
+                    config.main,
+                    config.extra,
+                    config.pool.unwrap_or(default_pool(w, band)),
+                ),
+                Method::FixedDiscard => (OverflowPolicy::Discard, config.fixed, 0, 0),
+                Method::FixedMerge => (OverflowPolicy::MergeFarthest, config.fixed, 0, 0),
+                Method::Zbuffer => unreachable!(),
+            };
+            pool_slots = pool;
+            let cfg = BufferConfig {
+                width: w,
+                band_height: band,
+                main_slots: main,
+                extra_addresses: extra,
+                policy,
+            };
+            match config.grid {
+                Grid::G4x4 => {
+                    let mut storage = abuffer::<Mask4x4, u32>(cfg, pool)?;
+                    run!(storage.as_buffer()?, Mask4x4)
+                }
+                Grid::G8x4 => {
+                    let mut storage = abuffer::<Mask8x4, u32>(cfg, pool)?;
+                    run!(storage.as_buffer()?, Mask8x4)
+                }
+                Grid::G8x8 => {
+                    let mut storage = abuffer::<Mask8x8, u32>(cfg, pool)?;
+                    run!(storage.as_buffer()?, Mask8x8)
+                }
+            }
+        }
+    };
+    Ok(RenderOutput {
+        width: w,
+        height: h,
+        rgb,
+        stats,
+        generated_per_pixel: generated,
+        stored_per_pixel: stored,
+        pool_slots,
+        elapsed: start.elapsed(),
+    })
+}
+
+/// Owned storage of a fragment buffer.
+pub struct AbufferStorage<M: CoverageMask, A: PoolAddress> {
+    config: BufferConfig,
+    counts: Vec<u8>,
+    main: Vec<PackedFragment<M>>,
+    addresses: Vec<A>,
+    pool: Vec<PackedFragment<M>>,
+}
+
+/// Allocates storage for a fragment buffer of `config` with `pool` slots.
+pub fn abuffer<M: CoverageMask, A: PoolAddress>(
+    config: BufferConfig,
+    pool: usize,
+) -> Result<AbufferStorage<M, A>, String> {
+    if pool > A::MAX_POOL {
+        return Err(format!(
+            "pool of {pool} slots exceeds the {} an address can reach",
+            A::MAX_POOL
+        ));
+    }
+    Ok(AbufferStorage {
+        config,
+        counts: vec![0; config.pixels()],
+        main: vec![PackedFragment::default(); config.main_slot_count()],
+        addresses: vec![A::default(); config.address_count()],
+        pool: vec![PackedFragment::default(); pool],
+    })
+}
+
+impl<M: CoverageMask, A: PoolAddress> AbufferStorage<M, A> {
+    /// The fragment buffer over this storage.
+    pub fn as_buffer(&mut self) -> Result<FragmentBuffer<'_, M, A>, String> {
+        FragmentBuffer::new(
+            self.config,
+            BufferStorage {
+                counts: &mut self.counts,
+                main: &mut self.main,
+                addresses: &mut self.addresses,
+                pool: &mut self.pool,
+            },
+        )
+        .map_err(|e| e.to_string())
+    }
+}
