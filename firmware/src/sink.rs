@@ -79,3 +79,70 @@ impl LineSink for ImageSink<'_> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use embedded_graphics_core::geometry::{Dimensions, OriginDimensions};
+    use embedded_graphics_core::Pixel;
+
+    struct Screen {
+        pixels: [[Rgb565; 4]; 2],
+    }
+
+    impl OriginDimensions for Screen {
+        fn size(&self) -> Size {
+            Size::new(4, 2)
+        }
+    }
+
+    impl DrawTarget for Screen {
+        type Color = Rgb565;
+        type Error = core::convert::Infallible;
+        fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(
+            &mut self,
+            pixels: I,
+        ) -> Result<(), Self::Error> {
+            for Pixel(p, c) in pixels {
+                if self.bounding_box().contains(p) {
+                    self.pixels[p.y as usize][p.x as usize] = c;
+                }
+            }
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn draw_target_receives_lines_in_rgb565() {
+        let mut screen = Screen {
+            pixels: [[Rgb565::BLACK; 4]; 2],
+        };
+        let line = [
+            Rgb888::new(255, 0, 0),
+            Rgb888::new(0, 255, 0),
+            Rgb888::new(0, 0, 255),
+            Rgb888::WHITE,
+        ];
+        DrawTargetSink::new(&mut screen)
+            .write_line(1, &line)
+            .unwrap();
+        assert_eq!(screen.pixels[0], [Rgb565::BLACK; 4]);
+        assert_eq!(
+            screen.pixels[1],
+            [Rgb565::RED, Rgb565::GREEN, Rgb565::BLUE, Rgb565::WHITE]
+        );
+    }
+
+    #[test]
+    fn image_sink_writes_rows_and_refuses_rows_beyond() {
+        let mut bytes = [0u8; 2 * 2 * 3];
+        let mut sink = ImageSink::new(2, &mut bytes);
+        sink.write_line(1, &[Rgb888::new(1, 2, 3), Rgb888::new(4, 5, 6)])
+            .unwrap();
+        assert_eq!(
+            sink.write_line(2, &[Rgb888::BLACK; 2]),
+            Err(OutOfImage { y: 2 })
+        );
+        assert_eq!(bytes, [0, 0, 0, 0, 0, 0, 1, 2, 3, 4, 5, 6]);
+    }
+}

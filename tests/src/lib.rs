@@ -1,1 +1,680 @@
+//! Shared helpers for the system tests of `mcu_abuffer`.
+//!
+//! This crate depends on `mcu-abuffer` but not on `embedded-graphics-core`, so the
+//! color type the library uses (`Rgb888`) cannot be named here. Colors are therefore
+//! kept as `[u8; 3]` in the tests; [`color_carrier`] produces a library color value
+//! (inside a fragment) and [`rgb_of`] reads one back. For the same reason the tests
+//! cannot implement `BandBuffer` themselves (its `resolve_row` mentions `Rgb888`):
+//! fragment streams are captured with a `FragmentBuffer` instead (see
+//! [`capture_masks`] and [`triangle_streams`]).
 
+use mcu_abuffer::band_buffer::BandBuffer;
+use mcu_abuffer::coverage::{CoverageMask, Mask1x1};
+use mcu_abuffer::fixed_point::Coord;
+use mcu_abuffer::fragment::{Fragment, PackedFragment};
+use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
+use mcu_abuffer::geometry::{outcode, project, ClipTransform, ObjectTransform, ViewBasis};
+use mcu_abuffer::lighting::color_q8;
+use mcu_abuffer::raster::rasterize;
+use mcu_abuffer::renderer::{render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex};
+use mcu_abuffer::scene::{Camera, Light, Mesh, Normal, Scene, SceneObject, Shading, Transform};
+use mcu_abuffer::setup::{
+    is_backfacing, signed_area2, ColorSource, SetupVertex, TriangleSetup,
+};
+use mcu_abuffer::sink::ImageSink;
+use mcu_abuffer::stats::FrameStats;
+
+/// The fixed-point type of normal components (Q2.14), reached through the library's alias.
+pub type Unit = <Normal as IntoIterator>::Item;
+
+// ---------------------------------------------------------------------------------
+// Random numbers
+// ---------------------------------------------------------------------------------
+
+/// A small deterministic PRNG (SplitMix64).
+#[derive(Clone, Debug)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator from a seed.
+    pub fn new(seed: u64) -> Self {
+        Self(seed ^ 0x5DEE_CE66_D1CE_4E5B)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `0..n` (`n > 0`).
+    pub fn below(&mut self, n: u64) -> u64 {
+        assert!(n > 0);
+        ((self.next_u64() as u128 * n as u128) >> 64) as u64
+    }
+
+    /// Uniform in `lo..=hi`.
+    pub fn range(&mut self, lo: i64, hi: i64) -> i64 {
+        assert!(lo <= hi);
+        lo + self.below((hi - lo + 1) as u64) as i64
+    }
+
+    /// Uniform in `[0, 1)`.
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in `[lo, hi)`.
+    pub fn float(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+
+    /// True with probability `p`.
+    pub fn chance(&mut self, p: f64) -> bool {
+        self.unit() < p
+    }
+
+    /// A random 8-bit color.
+    pub fn color(&mut self) -> [u8; 3] {
+        let v = self.next_u64();
+        [v as u8, (v >> 8) as u8, (v >> 16) as u8]
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Colors
+// ---------------------------------------------------------------------------------
+
+/// A one-pixel fragment whose `color` is the library color `rgb`.
+///
+/// Made by rasterizing a small triangle with three equal vertex colors (linear
+/// shading reproduces a constant exactly) into a 1x1 fragment buffer.
+pub fn color_carrier(rgb: [u8; 3]) -> Fragment<Mask1x1> {
+    let q8 = rgb.map(|c| (c as i32) << 8);
+    let v = |x: i32, y: i32| SetupVertex {
+        x,
+        y,
+        z: 0,
+        color: q8,
+    };
+    let setup = TriangleSetup::new(
+        &[v(0, 0), v(64, 0), v(0, 64)],
+        false,
+        ColorSource::Linear,
+        1,
+        1,
+    )
+    .expect("carrier triangle");
+    let config = BufferConfig {
+        width: 1,
+        band_height: 1,
+        main_slots: 1,
+        extra_addresses: 0,
+        policy: OverflowPolicy::MergeFarthest,
+    };
+    let mut counts = [0u8; 1];
+    let mut main = [PackedFragment::<Mask1x1>::default(); 1];
+    let mut addresses: [u16; 0] = [];
+    let mut pool: [PackedFragment<Mask1x1>; 0] = [];
+    let mut buffer = FragmentBuffer::new(
+        config,
+        BufferStorage {
+            counts: &mut counts,
+            main: &mut main,
+            addresses: &mut addresses,
+            pool: &mut pool,
+        },
+    )
+    .expect("carrier buffer");
+    buffer.begin_band(0, 1);
+    rasterize::<Mask1x1, _>(&setup, 0, 1, &mut buffer);
+    let f = buffer.fragments(0, 0).next().expect("carrier fragment");
+    assert_eq!(rgb_of(&f), rgb, "color carrier must reproduce its color");
+    f
+}
+
+/// The color of a fragment as 8-bit channels.
+pub fn rgb_of<M: CoverageMask>(f: &Fragment<M>) -> [u8; 3] {
+    color_q8(f.color).map(|c| (c >> 8) as u8)
+}
+
+/// A fragment from its parts.
+pub fn fragment<M: CoverageMask>(mask: M, z: u32, dzdx: i32, dzdy: i32, rgb: [u8; 3]) -> Fragment<M> {
+    Fragment {
+        mask,
+        z,
+        dzdx,
+        dzdy,
+        color: color_carrier(rgb).color,
+    }
+}
+
+/// Sample `s` of grid `M` as (column, row).
+pub fn sample_col_row<M: CoverageMask>(s: u32) -> (u32, u32) {
+    (s % M::COLS, s / M::COLS)
+}
+
+// ---------------------------------------------------------------------------------
+// Fragment buffers
+// ---------------------------------------------------------------------------------
+
+/// Owned memory of a fragment buffer with `u32` pool addresses.
+pub struct AStorage<M: CoverageMask> {
+    config: BufferConfig,
+    counts: Vec<u8>,
+    main: Vec<PackedFragment<M>>,
+    addresses: Vec<u32>,
+    pool: Vec<PackedFragment<M>>,
+}
+
+impl<M: CoverageMask> AStorage<M> {
+    /// Storage for `config` with a pool of `pool` slots.
+    pub fn new(config: BufferConfig, pool: usize) -> Self {
+        Self {
+            config,
+            counts: vec![0; config.pixels()],
+            main: vec![PackedFragment::default(); config.main_slot_count()],
+            addresses: vec![0; config.address_count()],
+            pool: vec![PackedFragment::default(); pool],
+        }
+    }
+
+    /// The "unlimited" configuration of SPEC section 3: one main slot, `SAMPLES - 1`
+    /// pool addresses per pixel and a pool big enough for every pixel to use them all.
+    pub fn unlimited(width: u16, band_height: u16) -> Self {
+        let extra = M::SAMPLES - 1;
+        let config = BufferConfig {
+            width,
+            band_height,
+            main_slots: 1,
+            extra_addresses: extra as u8,
+            policy: OverflowPolicy::MergeFarthest,
+        };
+        Self::new(config, width as usize * band_height as usize * extra as usize)
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> BufferConfig {
+        self.config
+    }
+
+    /// Pool slots.
+    pub fn pool_len(&self) -> usize {
+        self.pool.len()
+    }
+
+    /// A fresh fragment buffer over this storage.
+    pub fn buffer(&mut self) -> FragmentBuffer<'_, M, u32> {
+        FragmentBuffer::new(
+            self.config,
+            BufferStorage {
+                counts: &mut self.counts,
+                main: &mut self.main,
+                addresses: &mut self.addresses,
+                pool: &mut self.pool,
+            },
+        )
+        .expect("fragment buffer storage")
+    }
+}
+
+/// Renders `scene` through `buffer`, returning the RGB888 image and the statistics.
+pub fn render<M, B, F>(
+    scene: &Scene<'_>,
+    options: &FrameOptions,
+    buffer: &mut B,
+    on_band: F,
+) -> (Vec<u8>, FrameStats)
+where
+    M: CoverageMask,
+    B: BandBuffer<M>,
+    F: FnMut(u16, u16, &B),
+{
+    let (w, h) = (scene.width as usize, scene.height as usize);
+    let empty_object = ObjectFrame {
+        transform: ObjectTransform {
+            clip: ClipTransform {
+                rows: [[0; 3]; 4],
+                offsets: [0; 4],
+            },
+            normal: [[0; 3]; 3],
+        },
+        vertex_base: 0,
+        triangle_base: 0,
+    };
+    let mut objects = vec![empty_object; scene.objects.len()];
+    let mut vertices = vec![ScreenVertex::default(); scene.vertex_count()];
+    let mut rows = vec![0u16; scene.triangle_count()];
+    let mut order = vec![0u32; scene.triangle_count()];
+    let mut row_starts = vec![0u32; h + 1];
+    let mut line = vec![color_carrier([0, 0, 0]).color; w];
+    let mut image = vec![0u8; w * h * 3];
+    let stats = {
+        let mut ws = FrameWorkspace {
+            objects: &mut objects,
+            vertices: &mut vertices,
+            triangle_rows: &mut rows,
+            triangle_order: &mut order,
+            row_starts: &mut row_starts,
+            line: &mut line,
+        };
+        let mut sink = ImageSink::new(scene.width, &mut image);
+        render_frame(scene, options, &mut ws, buffer, &mut sink, on_band)
+            .unwrap_or_else(|e| panic!("render_frame failed: {e}"))
+    };
+    (image, stats)
+}
+
+/// Rasterizes one set-up triangle alone into `storage` (whose band must cover the
+/// whole `height`) and returns the coverage mask of every pixel it touches.
+pub fn capture_masks<M: CoverageMask>(
+    setup: &TriangleSetup,
+    height: u16,
+    storage: &mut AStorage<M>,
+) -> Vec<(u16, u16, M)> {
+    assert!(storage.config().band_height >= height);
+    let mut buffer = storage.buffer();
+    buffer.begin_band(0, height);
+    rasterize::<M, _>(setup, 0, height, &mut buffer);
+    let mut out = Vec::new();
+    for y in setup.y0..=setup.y1.min(height - 1) {
+        for x in setup.x0..=setup.x1 {
+            let frags: Vec<Fragment<M>> = buffer.fragments(x, y).collect();
+            assert!(frags.len() <= 1, "one triangle left several fragments in a pixel");
+            if let Some(f) = frags.first() {
+                out.push((x, y, f.mask));
+            }
+        }
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------------
+// Random scenes
+// ---------------------------------------------------------------------------------
+
+/// One object of a generated scene, with owned mesh data.
+#[derive(Clone, Debug)]
+pub struct OwnedObject {
+    /// Positions.
+    pub positions: Vec<[Coord; 3]>,
+    /// Normals, one per position.
+    pub normals: Vec<Normal>,
+    /// Triangles.
+    pub triangles: Vec<[u32; 3]>,
+    /// Base color.
+    pub color: [u8; 3],
+    /// Placement.
+    pub transform: Transform,
+    /// Back-face culling.
+    pub cull: bool,
+    /// Shading.
+    pub shading: Shading,
+}
+
+/// A generated scene with owned data; [`OwnedScene::objects`] and
+/// [`OwnedScene::scene`] lend it to the renderer.
+#[derive(Clone, Debug)]
+pub struct OwnedScene {
+    /// Image width.
+    pub width: u16,
+    /// Image height.
+    pub height: u16,
+    /// Background color.
+    pub background: [u8; 3],
+    /// Camera.
+    pub camera: Camera,
+    /// Light.
+    pub light: Option<Light>,
+    /// Objects in drawing order.
+    pub objects: Vec<OwnedObject>,
+    /// Turntable angle of the frame.
+    pub turntable_deg: Coord,
+}
+
+/// What [`OwnedScene::random`] generates.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneParams {
+    /// Image width.
+    pub width: u16,
+    /// Image height.
+    pub height: u16,
+    /// Fewest triangles.
+    pub min_triangles: usize,
+    /// Most triangles.
+    pub max_triangles: usize,
+    /// Smallest triangle half-size, world units (about 4 px per unit at the origin).
+    pub min_size: f64,
+    /// Largest triangle half-size.
+    pub max_size: f64,
+    /// Random camera position, object rotations and turntable angle.
+    pub rotate: bool,
+}
+
+fn unit_from(v: f64) -> Unit {
+    Unit::from_num(v.clamp(-1.0, 1.0))
+}
+
+fn random_normal(rng: &mut Rng) -> Normal {
+    loop {
+        let v = [
+            rng.float(-1.0, 1.0),
+            rng.float(-1.0, 1.0),
+            rng.float(-1.0, 1.0),
+        ];
+        let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if len > 0.1 && len <= 1.0 {
+            return v.map(|c| unit_from(c / len));
+        }
+    }
+}
+
+fn coord(v: f64) -> Coord {
+    Coord::from_num(v)
+}
+
+impl OwnedScene {
+    /// A random scene: triangles of random size at random depths around the origin,
+    /// many of them crossing a partner (interpenetrating), a few exact duplicates
+    /// (depth ties), split over up to four objects with mixed shading.
+    pub fn random(rng: &mut Rng, p: &SceneParams) -> Self {
+        let aspect = p.width as f64 / p.height as f64;
+        // Camera 10 units away, 60 degrees vertical field: about 5.77 units half-height.
+        let half_h = 10.0 * (30f64).to_radians().tan();
+        let half_w = half_h * aspect;
+        let n = rng.range(p.min_triangles as i64, p.max_triangles as i64) as usize;
+        let mut tris: Vec<[[f64; 3]; 3]> = Vec::with_capacity(n);
+        while tris.len() < n {
+            if let Some(prev) = tris.last().copied() {
+                if rng.chance(0.05) {
+                    // Exact duplicate: equal depths at every sample.
+                    tris.push(prev);
+                    continue;
+                }
+                if rng.chance(0.45) {
+                    // A partner whose plane crosses the previous one.
+                    let zc = (prev[0][2] + prev[1][2] + prev[2][2]) / 3.0;
+                    let j = 0.3;
+                    let t = prev.map(|v| {
+                        [
+                            v[0] + rng.float(-j, j),
+                            v[1] + rng.float(-j, j),
+                            2.0 * zc - v[2] + rng.float(-0.2, 0.2),
+                        ]
+                    });
+                    tris.push(t);
+                    continue;
+                }
+            }
+            let c = [
+                rng.float(-half_w, half_w),
+                rng.float(-half_h, half_h),
+                rng.float(-3.0, 3.0),
+            ];
+            let s = rng.float(p.min_size, p.max_size);
+            let tilt = rng.float(0.0, 1.5);
+            let t = [0, 1, 2].map(|_| {
+                [
+                    c[0] + rng.float(-s, s),
+                    c[1] + rng.float(-s, s),
+                    c[2] + tilt * rng.float(-s, s),
+                ]
+            });
+            tris.push(t);
+        }
+        let n_objects = rng.range(1, 4.min(n as i64)) as usize;
+        let mut cuts: Vec<usize> = (0..n_objects - 1)
+            .map(|_| rng.range(1, n as i64 - 1) as usize)
+            .collect();
+        cuts.push(0);
+        cuts.push(n);
+        cuts.sort_unstable();
+        cuts.dedup();
+        let mut objects = Vec::new();
+        for w in cuts.windows(2) {
+            let group = &tris[w[0]..w[1]];
+            let mut positions = Vec::new();
+            let mut normals = Vec::new();
+            let mut triangles = Vec::new();
+            for t in group {
+                let base = positions.len() as u32;
+                for v in t {
+                    positions.push(v.map(coord));
+                    normals.push(random_normal(rng));
+                }
+                // Random winding, so culling removes some triangles.
+                if rng.chance(0.5) {
+                    triangles.push([base, base + 1, base + 2]);
+                } else {
+                    triangles.push([base, base + 2, base + 1]);
+                }
+            }
+            let transform = if p.rotate {
+                Transform {
+                    position: [0, 1, 2].map(|_| coord(rng.float(-1.0, 1.0))),
+                    rotation_deg: [0, 1, 2].map(|_| coord(rng.float(-180.0, 180.0))),
+                    scale: coord(rng.float(0.7, 1.2)),
+                }
+            } else {
+                Transform::default()
+            };
+            let shading = match rng.below(3) {
+                0 => Shading::Unlit,
+                1 => Shading::Flat,
+                _ => Shading::Gouraud,
+            };
+            objects.push(OwnedObject {
+                positions,
+                normals,
+                triangles,
+                color: rng.color(),
+                transform,
+                cull: rng.chance(0.25),
+                shading,
+            });
+        }
+        let eye = if p.rotate {
+            let az = rng.float(-1.0, 1.0);
+            let el = rng.float(-0.6, 0.6);
+            let r = rng.float(9.0, 12.0);
+            [
+                r * el.cos() * az.sin(),
+                r * el.sin(),
+                r * el.cos() * az.cos(),
+            ]
+        } else {
+            [0.0, 0.0, 10.0]
+        };
+        let camera = Camera {
+            eye: eye.map(coord),
+            target: [Coord::ZERO; 3],
+            up: [Coord::ZERO, Coord::ONE, Coord::ZERO],
+            fov_y_deg: coord(60.0),
+            near: coord(1.0),
+            far: coord(40.0),
+        };
+        let light = if rng.chance(0.8) {
+            Some(Light {
+                direction: [0, 1, 2].map(|_| coord(rng.float(-1.0, 1.0) + 0.01)),
+                ambient: coord(rng.float(0.1, 0.4)),
+                diffuse: coord(rng.float(0.3, 0.8)),
+                specular: coord(rng.float(0.0, 0.5)),
+                shininess: rng.range(1, 32) as u8,
+            })
+        } else {
+            None
+        };
+        let turntable_deg = if p.rotate {
+            coord(rng.float(-90.0, 90.0))
+        } else {
+            Coord::ZERO
+        };
+        Self {
+            width: p.width,
+            height: p.height,
+            background: rng.color(),
+            camera,
+            light,
+            objects,
+            turntable_deg,
+        }
+    }
+
+    /// Triangles over all objects.
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(|o| o.triangles.len()).sum()
+    }
+
+    /// Frame options (the turntable angle).
+    pub fn options(&self) -> FrameOptions {
+        FrameOptions {
+            turntable_deg: self.turntable_deg,
+        }
+    }
+
+    /// The library objects, borrowing this scene's data.
+    pub fn objects(&self) -> Vec<SceneObject<'_>> {
+        self.objects
+            .iter()
+            .map(|o| self.object(o, &o.triangles))
+            .collect()
+    }
+
+    fn object<'a>(&self, o: &'a OwnedObject, triangles: &'a [[u32; 3]]) -> SceneObject<'a> {
+        SceneObject {
+            mesh: Mesh {
+                positions: &o.positions,
+                normals: &o.normals,
+                triangles,
+            },
+            color: color_carrier(o.color).color,
+            transform: o.transform,
+            cull_backfaces: o.cull,
+            shading: o.shading,
+        }
+    }
+
+    /// The library scene over `objects`.
+    pub fn scene<'a>(&self, objects: &'a [SceneObject<'a>]) -> Scene<'a> {
+        Scene {
+            width: self.width,
+            height: self.height,
+            background: color_carrier(self.background).color,
+            camera: self.camera,
+            light: self.light,
+            objects,
+        }
+    }
+
+    /// The scene reduced to triangle `t` of object `o` (same camera, light and
+    /// object placement), for capturing that triangle's fragments alone.
+    pub fn single_triangle_objects(&self, o: usize, t: usize) -> Vec<SceneObject<'_>> {
+        let obj = &self.objects[o];
+        vec![self.object(obj, &obj.triangles[t..t + 1])]
+    }
+
+    /// The order in which the renderer visits triangles within a pixel: sorted by
+    /// the first image row of their (unclipped) window bounding box, stable in scene
+    /// order; clipped triangles count as row 0. Triangles the renderer skips (outside,
+    /// back-facing, degenerate) get `None`. Mirrors the binning of `render_frame`.
+    pub fn visiting_order(&self) -> Vec<((usize, usize), Option<u16>)> {
+        let view = ViewBasis::new(&self.camera).expect("camera basis");
+        let (w, h) = (self.width as i32, self.height as i32);
+        let mut keyed = Vec::new();
+        for (oi, o) in self.objects.iter().enumerate() {
+            let xf = ObjectTransform::new(
+                &self.camera,
+                &view,
+                self.width,
+                self.height,
+                &o.transform,
+                self.turntable_deg,
+            );
+            for (ti, tri) in o.triangles.iter().enumerate() {
+                let clip = tri.map(|v| xf.to_clip(&o.positions[v as usize]));
+                let codes = clip.map(|c| outcode(&c));
+                let row = if codes[0] & codes[1] & codes[2] != 0 {
+                    None
+                } else if codes[0] | codes[1] | codes[2] != 0 {
+                    Some(0)
+                } else {
+                    let sv = clip.map(|c| {
+                        let (x, y, z) = project(&c);
+                        SetupVertex {
+                            x,
+                            y,
+                            z,
+                            color: [0; 3],
+                        }
+                    });
+                    let area2 = signed_area2(&sv);
+                    let min_x = sv.iter().map(|v| v.x).min().unwrap_or(0) >> 4;
+                    let max_x = sv.iter().map(|v| v.x).max().unwrap_or(0) >> 4;
+                    let min_y = sv.iter().map(|v| v.y).min().unwrap_or(0) >> 4;
+                    let max_y = sv.iter().map(|v| v.y).max().unwrap_or(0) >> 4;
+                    if area2 == 0
+                        || (o.cull && is_backfacing(area2))
+                        || max_x < 0
+                        || max_y < 0
+                        || min_x >= w
+                        || min_y >= h
+                    {
+                        None
+                    } else {
+                        Some(min_y.max(0) as u16)
+                    }
+                };
+                keyed.push(((oi, ti), row));
+            }
+        }
+        // Stable sort: skipped ones last, the rest by row.
+        keyed.sort_by_key(|&(_, row)| row.map_or(u32::MAX, |r| r as u32));
+        keyed
+    }
+}
+
+/// The fragments one triangle leaves, pixel by pixel: `(x, y, fragment)`.
+pub type Stream<M> = Vec<(u16, u16, Fragment<M>)>;
+
+/// Captures the fragments of every triangle of `scene` separately, by rendering
+/// each triangle alone through an unlimited fragment buffer (full-height band), in
+/// the renderer's visiting order. Returns `(triangle, skipped by binning, stream)`.
+pub fn triangle_streams<M: CoverageMask>(
+    scene: &OwnedScene,
+    storage: &mut AStorage<M>,
+) -> Vec<((usize, usize), bool, Stream<M>)> {
+    assert!(storage.config().band_height >= scene.height);
+    let options = scene.options();
+    let mut out = Vec::new();
+    for ((o, t), row) in scene.visiting_order() {
+        let objects = scene.single_triangle_objects(o, t);
+        let lib_scene = scene.scene(&objects);
+        let mut stream = Vec::new();
+        let mut buffer = storage.buffer();
+        render(&lib_scene, &options, &mut buffer, |y0, rows, b| {
+            for row in 0..rows {
+                for x in 0..b.width() {
+                    for f in b.fragments(x, row) {
+                        stream.push((x, y0 + row, f));
+                    }
+                }
+            }
+        });
+        out.push(((o, t), row.is_none(), stream));
+    }
+    out
+}
+
+/// First differing pixel of two RGB888 images, as `(x, y, a, b)`.
+pub fn first_difference(width: u16, a: &[u8], b: &[u8]) -> Option<(usize, usize, [u8; 3], [u8; 3])> {
+    assert_eq!(a.len(), b.len());
+    let w = width as usize;
+    (0..a.len() / 3).find_map(|p| {
+        let pa = [a[3 * p], a[3 * p + 1], a[3 * p + 2]];
+        let pb = [b[3 * p], b[3 * p + 1], b[3 * p + 2]];
+        (pa != pb).then_some((p % w, p / w, pa, pb))
+    })
+}
