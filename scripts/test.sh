@@ -19,7 +19,7 @@ cargo build -p mcu-abuffer --release --target thumbv7em-none-eabihf
 cargo build -p mcu-abuffer --release --target thumbv6m-none-eabi
 
 echo "== tests"
-cargo test --workspace --release
+cargo test --workspace
 
 echo "== main job: render a built-in scene"
 cargo run --release -p host-sim -- render --scene teapot --out target/teapot.png

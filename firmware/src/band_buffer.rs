@@ -2,6 +2,8 @@
 
 use crate::coverage::CoverageMask;
 use crate::fragment::Fragment;
+use crate::raster::rasterize;
+use crate::setup::{ColorSource, Rejection, SetupVertex, TriangleSetup};
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -18,6 +20,31 @@ pub trait BandBuffer<M: CoverageMask> {
     /// Starts a band of `rows` rows (at most [`BandBuffer::band_height`]) at image row `y0`:
     /// every pixel becomes empty.
     fn begin_band(&mut self, y0: u16, rows: u16);
+    /// Draws one window-space triangle into the band starting at image row `band_y0`
+    /// with `band_rows` rows: sets it up and rasterizes it.
+    ///
+    /// Buffers that decide about whole triangles before rasterizing them (culling
+    /// against a z-buffer) override this; the others keep the default.
+    fn draw_triangle(
+        &mut self,
+        vertices: &[SetupVertex; 3],
+        params: &DrawParams,
+        band_y0: u16,
+        band_rows: u16,
+    ) -> Result<(), Rejection>
+    where
+        Self: Sized,
+    {
+        let setup = TriangleSetup::new(
+            vertices,
+            params.cull_backfaces,
+            params.colors,
+            params.width,
+            params.height,
+        )?;
+        rasterize(&setup, band_y0, band_rows, self);
+        Ok(())
+    }
     /// Adds the fragment of one triangle at column `x`, band row `row`.
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>);
     /// Resolves band row `row` into colors, `background` where nothing covers.
@@ -30,4 +57,17 @@ pub trait BandBuffer<M: CoverageMask> {
     fn stats(&self) -> BufferStats;
     /// Returns the counters and zeroes them.
     fn take_stats(&mut self) -> BufferStats;
+}
+
+/// What [`BandBuffer::draw_triangle`] needs besides the vertices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DrawParams {
+    /// Skip the triangle when it faces away.
+    pub cull_backfaces: bool,
+    /// How fragment colors are produced.
+    pub colors: ColorSource,
+    /// Image width.
+    pub width: u16,
+    /// Image height.
+    pub height: u16,
 }

@@ -6,17 +6,14 @@
 //! visited sorted by their first row (then by scene order), and each band sees the
 //! active ones in that order. Only the band's pixel memory depends on `R`.
 
-use crate::band_buffer::BandBuffer;
+use crate::band_buffer::{BandBuffer, DrawParams};
 use crate::clip::{clip_triangle, ClipVertex};
 use crate::coverage::CoverageMask;
 use crate::fixed_point::{Coord, SUBPIXEL_BITS};
 use crate::geometry::{outcode, project, ObjectTransform, ViewBasis};
 use crate::lighting::{color_q8, normalize_unit, LightSetup};
-use crate::raster::rasterize;
 use crate::scene::{Scene, SceneError, Shading};
-use crate::setup::{
-    is_backfacing, signed_area2, ColorSource, Rejection, SetupVertex, TriangleSetup,
-};
+use crate::setup::{is_backfacing, signed_area2, ColorSource, SetupVertex};
 use crate::sink::LineSink;
 use crate::stats::{FrameStats, GeometryStats};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -492,19 +489,17 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     let object = &ctx.scene.objects[o];
     let v = corners(ctx, ws, t);
     let colors = color_source(ctx, ws, t);
-    let (w, h) = (ctx.scene.width, ctx.scene.height);
+    let params = DrawParams {
+        cull_backfaces: object.cull_backfaces,
+        colors,
+        width: ctx.scene.width,
+        height: ctx.scene.height,
+    };
     let or = v[0].outcode | v[1].outcode | v[2].outcode;
     if or == 0 {
         stats.triangle_setups += 1;
-        if let Ok(setup) = TriangleSetup::new(
-            &v.map(|p| setup_vertex(&p)),
-            object.cull_backfaces,
-            colors,
-            w,
-            h,
-        ) {
-            rasterize(&setup, y0, rows, buffer);
-        }
+        // Rejections were counted when binning.
+        let _ = buffer.draw_triangle(&v.map(|p| setup_vertex(&p)), &params, y0, rows);
         return;
     }
     // Clipped path: transform the corners again at full range and cut the triangle.
@@ -534,9 +529,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     for k in 1..poly.len - 1 {
         stats.triangle_setups += 1;
         let fan = [projected[0], projected[k], projected[k + 1]];
-        match TriangleSetup::new(&fan, object.cull_backfaces, colors, w, h) {
-            Ok(setup) => rasterize(&setup, y0, rows, buffer),
-            Err(Rejection::Degenerate | Rejection::Backfacing | Rejection::Outside) => {}
-        }
+        // A piece may be degenerate or off screen; nothing to count then.
+        let _ = buffer.draw_triangle(&fan, &params, y0, rows);
     }
 }

@@ -16,11 +16,11 @@ use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, 
 use mcu_abuffer::geometry::{outcode, project, ClipTransform, ObjectTransform, ViewBasis};
 use mcu_abuffer::lighting::color_q8;
 use mcu_abuffer::raster::rasterize;
-use mcu_abuffer::renderer::{render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex};
-use mcu_abuffer::scene::{Camera, Light, Mesh, Normal, Scene, SceneObject, Shading, Transform};
-use mcu_abuffer::setup::{
-    is_backfacing, signed_area2, ColorSource, SetupVertex, TriangleSetup,
+use mcu_abuffer::renderer::{
+    render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
 };
+use mcu_abuffer::scene::{Camera, Light, Mesh, Normal, Scene, SceneObject, Shading, Transform};
+use mcu_abuffer::setup::{is_backfacing, signed_area2, ColorSource, SetupVertex, TriangleSetup};
 use mcu_abuffer::sink::ImageSink;
 use mcu_abuffer::stats::FrameStats;
 
@@ -142,7 +142,13 @@ pub fn rgb_of<M: CoverageMask>(f: &Fragment<M>) -> [u8; 3] {
 }
 
 /// A fragment from its parts.
-pub fn fragment<M: CoverageMask>(mask: M, z: u32, dzdx: i32, dzdy: i32, rgb: [u8; 3]) -> Fragment<M> {
+pub fn fragment<M: CoverageMask>(
+    mask: M,
+    z: u32,
+    dzdx: i32,
+    dzdy: i32,
+    rgb: [u8; 3],
+) -> Fragment<M> {
     Fragment {
         mask,
         z,
@@ -193,7 +199,10 @@ impl<M: CoverageMask> AStorage<M> {
             extra_addresses: extra as u8,
             policy: OverflowPolicy::MergeFarthest,
         };
-        Self::new(config, width as usize * band_height as usize * extra as usize)
+        Self::new(
+            config,
+            width as usize * band_height as usize * extra as usize,
+        )
     }
 
     /// The configuration.
@@ -283,7 +292,10 @@ pub fn capture_masks<M: CoverageMask>(
     for y in setup.y0..=setup.y1.min(height - 1) {
         for x in setup.x0..=setup.x1 {
             let frags: Vec<Fragment<M>> = buffer.fragments(x, y).collect();
-            assert!(frags.len() <= 1, "one triangle left several fragments in a pixel");
+            assert!(
+                frags.len() <= 1,
+                "one triangle left several fragments in a pixel"
+            );
             if let Some(f) = frags.first() {
                 out.push((x, y, f.mask));
             }
@@ -669,7 +681,11 @@ pub fn triangle_streams<M: CoverageMask>(
 }
 
 /// First differing pixel of two RGB888 images, as `(x, y, a, b)`.
-pub fn first_difference(width: u16, a: &[u8], b: &[u8]) -> Option<(usize, usize, [u8; 3], [u8; 3])> {
+pub fn first_difference(
+    width: u16,
+    a: &[u8],
+    b: &[u8],
+) -> Option<(usize, usize, [u8; 3], [u8; 3])> {
     assert_eq!(a.len(), b.len());
     let w = width as usize;
     (0..a.len() / 3).find_map(|p| {
