@@ -2,10 +2,8 @@
 //! scenes, image output and the measurement tools.
 #![warn(missing_docs)]
 
-pub mod builtins;
+pub use abuffer_scenes::{builtins, obj, scene_desc, scene_file};
+
 pub mod convert;
 pub mod image_io;
-pub mod obj;
 pub mod render;
-pub mod scene_desc;
-pub mod scene_file;

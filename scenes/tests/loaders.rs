@@ -4,9 +4,9 @@
 
 use std::path::{Path, PathBuf};
 
-use host_sim::obj::{load_obj, parse_obj, LoadError};
-use host_sim::scene_desc::ShadingDesc;
-use host_sim::scene_file::{load_mesh, load_scene_file, parse_scene};
+use abuffer_scenes::obj::{load_obj, parse_obj, LoadError};
+use abuffer_scenes::scene_desc::ShadingDesc;
+use abuffer_scenes::scene_file::{load_mesh, load_scene_file, parse_scene};
 
 fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
