@@ -81,6 +81,14 @@ impl<M: CoverageMask> PackedFragment<M> {
     /// Bytes one stored fragment takes (`M_frag` of SPEC section 5).
     pub const SIZE: usize = core::mem::size_of::<Self>();
 
+    /// An empty slot (for static initializers).
+    pub const EMPTY: Self = Self {
+        mask: M::EMPTY,
+        z_red: 0,
+        dzdx_green: 0,
+        dzdy_blue: 0,
+    };
+
     /// Packs a working fragment. Depth is clamped to `DEPTH_MAX` and gradients to
     /// ±[`GRADIENT_LIMIT`] (the rasterizer already keeps them in range).
     #[inline]

@@ -9,8 +9,8 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 use fixed::types::{I16F16, I2F14};
 use mcu_abuffer::scene::{Camera, Light, Mesh, Normal, Scene, SceneObject, Shading, Transform};
 
-/// Largest model coordinate magnitude accepted (leaves headroom in Q16.16).
-pub const MAX_MODEL_COORDINATE: f32 = 16384.0;
+pub use abuffer_scenes::fixed_bits::MAX_MODEL_COORDINATE;
+use abuffer_scenes::fixed_bits::{check_convertible, coord_bits, normal_bits};
 
 /// A mesh in fixed point, owned.
 #[derive(Clone, Debug, Default)]
@@ -46,7 +46,7 @@ pub struct FixedScene {
 }
 
 fn fix(v: f32) -> I16F16 {
-    I16F16::saturating_from_num(v)
+    I16F16::from_bits(coord_bits(v))
 }
 
 fn fix3(v: [f32; 3]) -> [I16F16; 3] {
@@ -58,39 +58,13 @@ pub fn to_fixed(desc: &SceneDesc) -> Result<FixedScene, String> {
     let mut meshes = Vec::new();
     let mut placements = Vec::new();
     let mut mesh_names = Vec::new();
-    for (i, o) in desc.objects.iter().enumerate() {
+    check_convertible(desc)?;
+    for o in &desc.objects {
         let m = &o.mesh;
-        if let Some(p) = m
-            .positions
-            .iter()
-            .flatten()
-            .find(|c| !c.is_finite() || c.abs() > MAX_MODEL_COORDINATE)
-        {
-            return Err(format!(
-                "object {i} ({}): coordinate {p} is not finite or beyond ±{MAX_MODEL_COORDINATE}",
-                o.mesh_name
-            ));
-        }
-        if m.normals.len() != m.positions.len() {
-            return Err(format!(
-                "object {i} ({}): {} normals for {} positions",
-                o.mesh_name,
-                m.normals.len(),
-                m.positions.len()
-            ));
-        }
         let normals = m
             .normals
             .iter()
-            .map(|n| {
-                let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                let u = if len > 0.0 && len.is_finite() {
-                    n.map(|c| c / len)
-                } else {
-                    [0.0, 0.0, 1.0]
-                };
-                u.map(I2F14::saturating_from_num)
-            })
+            .map(|n| normal_bits(*n).map(I2F14::from_bits))
             .collect();
         meshes.push(FixedMesh {
             positions: m.positions.iter().map(|p| fix3(*p)).collect(),

@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod builtins;
+pub mod fixed_bits;
 pub mod obj;
 pub mod scene_desc;
 pub mod scene_file;

@@ -1,0 +1,259 @@
+//! Bakes a scene and the buffer parameters into the firmware binaries.
+//!
+//! Only firmware features do anything here; library builds (host tests, plain
+//! bare-metal builds) skip it. Inputs, all optional:
+//!
+//! | variable | meaning | default |
+//! |---|---|---|
+//! | `FIRMWARE_SCENE` | built-in scene name or a scene file (relative to the workspace root) | `teapot` |
+//! | `FIRMWARE_WIDTH`, `FIRMWARE_HEIGHT` | image size (overrides the scene's) | 240 x 240 |
+//! | `FIRMWARE_FRAMES` | turntable frames, evenly spaced over 360 degrees | 4 |
+//! | `FIRMWARE_METHOD` | `shared`, `fixed-discard`, `fixed-merge`, `merge-closest`, `unlimited`, `zbuffer` | `shared` |
+//! | `FIRMWARE_GRID` | `4x4`, `8x4`, `8x8` | `4x4` |
+//! | `FIRMWARE_BAND` | band height in rows | 8 |
+//! | `FIRMWARE_MAIN`, `FIRMWARE_EXTRA`, `FIRMWARE_POOL` | `N_main`, `N_extra`, `N_pool` | 1, 2, 512 |
+//! | `FIRMWARE_FIXED` | `N_fixed` for the fixed methods | 3 |
+//! | `FIRMWARE_STACK_RESERVE` | bytes kept free for the stack | 8192 |
+//!
+//! Parameters that do not fit the board's RAM (or a mesh that does not fit its flash)
+//! stop the build with a message naming them and the overshoot.
+
+use abuffer_scenes::builtins::builtin_scene;
+use abuffer_scenes::fixed_bits::{check_convertible, coord3_bits, coord_bits, normal_bits, resolve_shading};
+use abuffer_scenes::scene_desc::{SceneDesc, ShadingDesc};
+use abuffer_scenes::scene_file::load_scene_file;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A firmware target: its feature, memory layout file and memory sizes.
+struct Board {
+    feature: &'static str,
+    layout: &'static str,
+    flash: usize,
+    ram: usize,
+}
+
+const BOARDS: &[Board] = &[Board { feature: "M4", layout: "memory/mps2-an386.x", flash: 512 * 1024, ram: 128 * 1024 }];
+
+/// Bytes of the renderer's types, checked against `size_of` in the binaries.
+const SCREEN_VERTEX_BYTES: usize = 16;
+const OBJECT_FRAME_BYTES: usize = 128;
+const COLOR_BYTES: usize = 4;
+/// Flash set aside for code and constants besides the meshes.
+const CODE_RESERVE: usize = 96 * 1024;
+
+fn env(name: &str) -> Option<String> {
+    println!("cargo:rerun-if-env-changed={name}");
+    std::env::var(name).ok().filter(|v| !v.is_empty())
+}
+
+fn env_num(name: &str, default: usize) -> usize {
+    match env(name) {
+        None => default,
+        Some(v) => v.parse().unwrap_or_else(|_| fail(&format!("{name}={v} is not a whole number"))),
+    }
+}
+
+fn fail(message: &str) -> ! {
+    eprintln!("error: {message}");
+    panic!("{message}");
+}
+
+fn load(spec: &str, root: &Path) -> SceneDesc {
+    let path = if Path::new(spec).is_absolute() { PathBuf::from(spec) } else { root.join(spec) };
+    if spec.ends_with(".toml") || path.is_file() {
+        println!("cargo:rerun-if-changed={}", path.display());
+        load_scene_file(&path).unwrap_or_else(|e| fail(&format!("FIRMWARE_SCENE: {e}")))
+    } else {
+        builtin_scene(spec, 240, 240).unwrap_or_else(|| fail(&format!("FIRMWARE_SCENE: '{spec}' is neither a scene file nor a built-in scene")))
+    }
+}
+
+fn main() {
+    println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed=memory");
+    let Some(board) = BOARDS.iter().find(|b| std::env::var(format!("CARGO_FEATURE_{}", b.feature)).is_ok()) else {
+        return;
+    };
+    let out = PathBuf::from(std::env::var("OUT_DIR").unwrap());
+    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap());
+    // The repository root: scene paths are relative to it.
+    let root = manifest.join("../..").canonicalize().unwrap_or(manifest.clone());
+
+    // Memory layout and link scripts for the binaries.
+    std::fs::copy(manifest.join(board.layout), out.join("memory.x")).expect("copy memory layout");
+    println!("cargo:rustc-link-search={}", out.display());
+    println!("cargo:rustc-link-arg-bins=-Tlink.x");
+    println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
+
+    let spec = env("FIRMWARE_SCENE").unwrap_or_else(|| "teapot".into());
+    let mut desc = load(&spec, &root);
+    if let Some(w) = env("FIRMWARE_WIDTH") {
+        desc.width = w.parse().unwrap_or_else(|_| fail("FIRMWARE_WIDTH must be a number"));
+    }
+    if let Some(h) = env("FIRMWARE_HEIGHT") {
+        desc.height = h.parse().unwrap_or_else(|_| fail("FIRMWARE_HEIGHT must be a number"));
+    }
+    check_convertible(&desc).unwrap_or_else(|e| fail(&format!("FIRMWARE_SCENE {spec}: {e}")));
+    let frames = env_num("FIRMWARE_FRAMES", 4).max(1);
+    let method = env("FIRMWARE_METHOD").unwrap_or_else(|| "shared".into());
+    let grid = env("FIRMWARE_GRID").unwrap_or_else(|| "4x4".into());
+    let band = env_num("FIRMWARE_BAND", 8).clamp(1, desc.height as usize);
+    let fixed = env_num("FIRMWARE_FIXED", 3);
+    let (mask_type, mask_bytes, samples) = match grid.as_str() {
+        "4x4" => ("Mask4x4", 2, 16),
+        "8x4" => ("Mask8x4", 4, 32),
+        "8x8" => ("Mask8x8", 8, 64),
+        other => fail(&format!("FIRMWARE_GRID={other}: use 4x4, 8x4 or 8x8")),
+    };
+    let (policy, main, extra, pool) = match method.as_str() {
+        "shared" => ("MergeFarthest", env_num("FIRMWARE_MAIN", 1), env_num("FIRMWARE_EXTRA", 2), env_num("FIRMWARE_POOL", 512)),
+        "merge-closest" => ("MergeClosest", env_num("FIRMWARE_MAIN", 1), env_num("FIRMWARE_EXTRA", 2), env_num("FIRMWARE_POOL", 512)),
+        "fixed-discard" => ("Discard", fixed, 0, 0),
+        "fixed-merge" => ("MergeFarthest", fixed, 0, 0),
+        "unlimited" => ("MergeFarthest", 1, samples - 1, desc.width as usize * band * (samples - 1)),
+        "zbuffer" => ("MergeFarthest", 0, 0, 0),
+        other => fail(&format!("FIRMWARE_METHOD={other}: use shared, merge-closest, fixed-discard, fixed-merge, unlimited or zbuffer")),
+    };
+    if method != "zbuffer" && (main == 0 || main + extra > 255) {
+        fail(&format!("FIRMWARE_MAIN={main} FIRMWARE_EXTRA={extra}: need 1 <= N_main and N_main + N_extra <= 255"));
+    }
+    if pool > 65535 {
+        fail(&format!("FIRMWARE_POOL={pool}: a pool address is 16 bits, so at most 65535 slots"));
+    }
+    let stack_reserve = env_num("FIRMWARE_STACK_RESERVE", 8192);
+
+    // Sizes: what the statics will take.
+    let (w, h) = (desc.width as usize, desc.height as usize);
+    let vertices: usize = desc.objects.iter().map(|o| o.mesh.positions.len()).sum();
+    let triangles: usize = desc.objects.iter().map(|o| o.mesh.triangles.len()).sum();
+    let frag_bytes = mask_bytes + 12;
+    let pixels = w * band;
+    let buffer_bytes = if method == "zbuffer" {
+        pixels * (4 + COLOR_BYTES)
+    } else {
+        pixels * (1 + main * frag_bytes + extra * 2) + pool * frag_bytes
+    };
+    let workspace_bytes = desc.objects.len() * OBJECT_FRAME_BYTES
+        + vertices * SCREEN_VERTEX_BYTES
+        + triangles * (2 + 4)
+        + (h + 1) * 4
+        + w * COLOR_BYTES;
+    let ram_needed = buffer_bytes + workspace_bytes + stack_reserve;
+    if ram_needed > board.ram {
+        fail(&format!(
+            "{w}x{h}, band {band}, {method} {grid} (main {main}, extra {extra}, pool {pool}) with {vertices} vertices and {triangles} triangles \
+             needs {ram_needed} bytes of RAM ({buffer_bytes} fragment buffer + {workspace_bytes} frame workspace + {stack_reserve} stack reserve): \
+             does not fit {} bytes by {} bytes",
+            board.ram,
+            ram_needed - board.ram
+        ));
+    }
+    let mesh_bytes: usize = desc.objects.iter().map(|o| o.mesh.positions.len() * (12 + 6) + o.mesh.triangles.len() * 12).sum();
+    if mesh_bytes + CODE_RESERVE > board.flash {
+        fail(&format!(
+            "FIRMWARE_SCENE {spec}: meshes take {mesh_bytes} bytes; with {CODE_RESERVE} bytes for code they do not fit {} bytes of flash by {} bytes",
+            board.flash,
+            mesh_bytes + CODE_RESERVE - board.flash
+        ));
+    }
+
+    // The scene as Rust statics.
+    let mut s = String::new();
+    writeln!(s, "// Generated by build.rs from FIRMWARE_SCENE={spec}.").unwrap();
+    for (i, o) in desc.objects.iter().enumerate() {
+        writeln!(s, "static POSITIONS_{i}: [[Coord; 3]; {}] = [", o.mesh.positions.len()).unwrap();
+        for p in &o.mesh.positions {
+            let b = coord3_bits(*p);
+            writeln!(s, "[Coord::from_bits({}), Coord::from_bits({}), Coord::from_bits({})],", b[0], b[1], b[2]).unwrap();
+        }
+        writeln!(s, "];\nstatic NORMALS_{i}: [Normal; {}] = [", o.mesh.normals.len()).unwrap();
+        for n in &o.mesh.normals {
+            let b = normal_bits(*n);
+            writeln!(s, "[I2F14::from_bits({}), I2F14::from_bits({}), I2F14::from_bits({})],", b[0], b[1], b[2]).unwrap();
+        }
+        writeln!(s, "];\nstatic TRIANGLES_{i}: [[u32; 3]; {}] = [", o.mesh.triangles.len()).unwrap();
+        for t in &o.mesh.triangles {
+            writeln!(s, "[{}, {}, {}],", t[0], t[1], t[2]).unwrap();
+        }
+        writeln!(s, "];").unwrap();
+    }
+    let c3 = |v: [f32; 3]| {
+        let b = coord3_bits(v);
+        format!("[Coord::from_bits({}), Coord::from_bits({}), Coord::from_bits({})]", b[0], b[1], b[2])
+    };
+    let c = |v: f32| format!("Coord::from_bits({})", coord_bits(v));
+    let has_light = desc.light.is_some();
+    writeln!(s, "/// The scene's objects.\npub static OBJECTS: [SceneObject<'static>; {}] = [", desc.objects.len()).unwrap();
+    for (i, o) in desc.objects.iter().enumerate() {
+        let shading = match resolve_shading(o.shading, has_light) {
+            ShadingDesc::Unlit => "Unlit",
+            ShadingDesc::Flat => "Flat",
+            ShadingDesc::Gouraud => "Gouraud",
+        };
+        writeln!(
+            s,
+            "SceneObject {{ mesh: Mesh {{ positions: &POSITIONS_{i}, normals: &NORMALS_{i}, triangles: &TRIANGLES_{i} }}, \
+             color: Rgb888::new({}, {}, {}), transform: Transform {{ position: {}, rotation_deg: {}, scale: {} }}, \
+             cull_backfaces: {}, shading: Shading::{shading} }},",
+            o.color[0], o.color[1], o.color[2], c3(o.position), c3(o.rotation_deg), c(o.scale), o.cull_backfaces
+        )
+        .unwrap();
+    }
+    writeln!(s, "];").unwrap();
+    let cam = &desc.camera;
+    writeln!(
+        s,
+        "/// The scene.\npub static SCENE: Scene<'static> = Scene {{ width: {}, height: {}, background: Rgb888::new({}, {}, {}), \
+         camera: Camera {{ eye: {}, target: {}, up: {}, fov_y_deg: {}, near: {}, far: {} }}, light: {}, objects: &OBJECTS }};",
+        desc.width,
+        desc.height,
+        desc.background[0],
+        desc.background[1],
+        desc.background[2],
+        c3(cam.eye),
+        c3(cam.target),
+        c3(cam.up),
+        c(cam.fov_y_deg),
+        c(cam.near),
+        c(cam.far),
+        match &desc.light {
+            None => "None".to_string(),
+            Some(l) => format!(
+                "Some(Light {{ direction: {}, ambient: {}, diffuse: {}, specular: {}, shininess: {} }})",
+                c3(l.direction),
+                c(l.ambient),
+                c(l.diffuse),
+                c(l.specular),
+                l.shininess.round().clamp(1.0, 255.0) as u8
+            ),
+        }
+    )
+    .unwrap();
+    // Turntable angles: frame i of K at 360 i / K degrees, converted like host-sim's --angle.
+    let angles: Vec<String> = (0..frames).map(|i| coord_bits(360.0 * i as f32 / frames as f32).to_string()).collect();
+    writeln!(s, "/// Turntable angle of each frame, Q16.16 degrees.\npub static FRAME_ANGLES: [i32; {frames}] = [{}];", angles.join(", ")).unwrap();
+    std::fs::write(out.join("scene_data.rs"), s).expect("write scene_data.rs");
+
+    let method_const = match method.as_str() {
+        "zbuffer" => "Method::ZBuffer",
+        _ => "Method::ABuffer",
+    };
+    let config = format!(
+        "// Generated by build.rs.\n\
+         /// Scene name as given.\npub const SCENE_NAME: &str = {spec:?};\n\
+         /// Method name as given.\npub const METHOD_NAME: &str = {method:?};\n\
+         /// Grid name.\npub const GRID_NAME: &str = {grid:?};\n\
+         /// Coverage mask of this build.\npub type Mask = mcu_abuffer::coverage::{mask_type};\n\
+         /// Which pixel memory this build uses.\npub const METHOD: Method = {method_const};\n\
+         /// Overflow policy of the A-buffer.\npub const POLICY: OverflowPolicy = OverflowPolicy::{policy};\n\
+         /// Image size.\npub const WIDTH: usize = {w};\npub const HEIGHT: usize = {h};\n\
+         /// Band height.\npub const BAND: usize = {band};\n\
+         /// Fragment slots and pool addresses per pixel, pool slots.\npub const MAIN: usize = {main};\npub const EXTRA: usize = {extra};\npub const POOL: usize = {pool};\n\
+         /// Scene size.\npub const VERTICES: usize = {vertices};\npub const TRIANGLES: usize = {triangles};\npub const OBJECTS_LEN: usize = {objects};\n\
+         /// Turntable frames.\npub const FRAMES: usize = {frames};\n\
+         /// Sizes the build script assumed (checked against the real ones).\npub const SCREEN_VERTEX_BYTES: usize = {SCREEN_VERTEX_BYTES};\npub const OBJECT_FRAME_BYTES: usize = {OBJECT_FRAME_BYTES};\npub const COLOR_BYTES: usize = {COLOR_BYTES};\npub const FRAGMENT_BYTES: usize = {frag_bytes};\n",
+        objects = desc.objects.len(),
+    );
+    std::fs::write(out.join("config.rs"), config).expect("write config.rs");
+}
