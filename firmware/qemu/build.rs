@@ -5,8 +5,8 @@
 //!
 //! | variable | meaning | default |
 //! |---|---|---|
-//! | `FIRMWARE_SCENE` | built-in scene name or a scene file (relative to the workspace root) | `teapot` |
-//! | `FIRMWARE_WIDTH`, `FIRMWARE_HEIGHT` | image size (overrides the scene's) | 240 x 240 |
+//! | `FIRMWARE_SCENE` | built-in scene name or a scene file (relative to the repository root) | M4: `teapot`, OLED: `teapot:4` |
+//! | `FIRMWARE_WIDTH`, `FIRMWARE_HEIGHT` | image size (overrides the scene's and the board's) | M4: 240 x 240, OLED: 128 x 64 |
 //! | `FIRMWARE_FRAMES` | turntable frames, evenly spaced over 360 degrees | 4 |
 //! | `FIRMWARE_METHOD` | `shared`, `fixed-discard`, `fixed-merge`, `merge-closest`, `unlimited`, `zbuffer` | `shared` |
 //! | `FIRMWARE_GRID` | `4x4`, `8x4`, `8x8` | `4x4` |
@@ -31,9 +31,15 @@ struct Board {
     layout: &'static str,
     flash: usize,
     ram: usize,
+    default_scene: &'static str,
+    width: u32,
+    height: u32,
 }
 
-const BOARDS: &[Board] = &[Board { feature: "M4", layout: "memory/mps2-an386.x", flash: 512 * 1024, ram: 128 * 1024 }];
+const BOARDS: &[Board] = &[
+    Board { feature: "M4", layout: "memory/mps2-an386.x", flash: 512 * 1024, ram: 128 * 1024, default_scene: "teapot", width: 240, height: 240 },
+    Board { feature: "OLED", layout: "memory/lm3s6965.x", flash: 256 * 1024, ram: 64 * 1024, default_scene: "teapot:4", width: 128, height: 64 },
+];
 
 /// Bytes of the renderer's types, checked against `size_of` in the binaries.
 const SCREEN_VERTEX_BYTES: usize = 16;
@@ -59,22 +65,26 @@ fn fail(message: &str) -> ! {
     panic!("{message}");
 }
 
-fn load(spec: &str, root: &Path) -> SceneDesc {
+fn load(spec: &str, root: &Path, board: &Board) -> SceneDesc {
     let path = if Path::new(spec).is_absolute() { PathBuf::from(spec) } else { root.join(spec) };
     if spec.ends_with(".toml") || path.is_file() {
         println!("cargo:rerun-if-changed={}", path.display());
         load_scene_file(&path).unwrap_or_else(|e| fail(&format!("FIRMWARE_SCENE: {e}")))
     } else {
-        builtin_scene(spec, 240, 240).unwrap_or_else(|| fail(&format!("FIRMWARE_SCENE: '{spec}' is neither a scene file nor a built-in scene")))
+        builtin_scene(spec, board.width, board.height).unwrap_or_else(|| fail(&format!("FIRMWARE_SCENE: '{spec}' is neither a scene file nor a built-in scene")))
     }
 }
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=memory");
-    let Some(board) = BOARDS.iter().find(|b| std::env::var(format!("CARGO_FEATURE_{}", b.feature)).is_ok()) else {
-        return;
+    let mut boards = BOARDS.iter().filter(|b| std::env::var(format!("CARGO_FEATURE_{}", b.feature)).is_ok());
+    let Some(board) = boards.next() else {
+        fail("enable one board feature: m4 or oled");
     };
+    if boards.next().is_some() {
+        fail("enable only one board feature (m4 or oled): use --no-default-features --features oled for the OLED build");
+    }
     let out = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap());
     // The repository root: scene paths are relative to it.
@@ -86,8 +96,10 @@ fn main() {
     println!("cargo:rustc-link-arg-bins=-Tlink.x");
     println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
 
-    let spec = env("FIRMWARE_SCENE").unwrap_or_else(|| "teapot".into());
-    let mut desc = load(&spec, &root);
+    let spec = env("FIRMWARE_SCENE").unwrap_or_else(|| board.default_scene.into());
+    let mut desc = load(&spec, &root, board);
+    desc.width = board.width;
+    desc.height = board.height;
     if let Some(w) = env("FIRMWARE_WIDTH") {
         desc.width = w.parse().unwrap_or_else(|_| fail("FIRMWARE_WIDTH must be a number"));
     }
@@ -190,6 +202,8 @@ fn main() {
             ShadingDesc::Unlit => "Unlit",
             ShadingDesc::Flat => "Flat",
             ShadingDesc::Gouraud => "Gouraud",
+            ShadingDesc::Quadratic => "Quadratic",
+            ShadingDesc::Phong => "Phong",
         };
         writeln!(
             s,

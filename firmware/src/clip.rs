@@ -20,6 +20,9 @@ pub struct ClipVertex {
     pub clip: [i64; 4],
     /// Color, Q8.
     pub color: ColorQ8,
+    /// Eye-space normal, Q2.14 (zero when the shading does not use it); no
+    /// longer unit length after interpolation.
+    pub normal: [i32; 3],
 }
 
 /// A clipped polygon.
@@ -59,6 +62,7 @@ fn intersect(a: &ClipVertex, b: &ClipVertex, da: i128, db: i128) -> ClipVertex {
     }
     for i in 0..3 {
         v.color[i] = lerp(a.color[i] as i64, b.color[i] as i64, da, den) as i32;
+        v.normal[i] = lerp(a.normal[i] as i64, b.normal[i] as i64, da, den) as i32;
     }
     v
 }
@@ -114,6 +118,7 @@ mod tests {
         ClipVertex {
             clip: [x, y, z, w],
             color: [0; 3],
+            normal: [0; 3],
         }
     }
 

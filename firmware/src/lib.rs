@@ -13,7 +13,8 @@
 //! integer, so a device and the desktop simulator produce the same bits.
 //!
 //! Pipeline, by module: [`geometry`] (transform, outcodes, projection), [`clip`],
-//! [`lighting`], [`setup`] (edge functions, depth and color planes), [`raster`]
+//! [`lighting`], [`setup`] (edge functions, depth and color planes), [`shading`]
+//! (quadratic and Phong shading, color walkers), [`raster`]
 //! ([`coverage`] masks), [`fragment_buffer`] ([`visibility`], [`merge`], [`pool`])
 //! or [`zbuffer`], resolve, [`sink`]. [`renderer::render_frame`] drives it.
 #![cfg_attr(not(test), no_std)]
@@ -35,6 +36,7 @@ pub mod raster;
 pub mod renderer;
 pub mod scene;
 pub mod setup;
+pub mod shading;
 pub mod sink;
 pub mod stats;
 pub mod visibility;

@@ -13,7 +13,7 @@ use crate::coverage::CoverageMask;
 use crate::fixed_point::DEPTH_MAX;
 use crate::fragment::Fragment;
 use crate::setup::{ColorPlanes, Edge, TriangleSetup};
-use embedded_graphics_core::pixelcolor::Rgb888;
+use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, PhongWalk, QuadraticWalk};
 
 /// Samples where one edge function (value `e` at the pixel center, already biased)
 /// is non-negative.
@@ -56,11 +56,6 @@ pub fn pixel_coverage<M: CoverageMask>(e: &[i64; 3], edges: &[Edge; 3], margin: 
     mask
 }
 
-#[inline]
-fn channel(v: i64) -> u8 {
-    ((v + (1 << 15)) >> 16).clamp(0, 255) as u8
-}
-
 /// Rasterizes the rows of `setup` that fall in the band starting at image row
 /// `band_y0` with `band_rows` rows, inserting fragments into `buffer`.
 pub fn rasterize<M: CoverageMask, B: BandBuffer<M>>(
@@ -69,42 +64,62 @@ pub fn rasterize<M: CoverageMask, B: BandBuffer<M>>(
     band_rows: u16,
     buffer: &mut B,
 ) {
+    if band_rows == 0 {
+        return;
+    }
     let band_last = band_y0 as u32 + band_rows as u32 - 1;
     let y_first = setup.y0.max(band_y0);
     let y_last = (setup.y1 as u32).min(band_last) as u16;
-    if band_rows == 0 || y_first > y_last || setup.x0 > setup.x1 {
+    if y_first > y_last || setup.x0 > setup.x1 {
         return;
     }
+    // One loop per kind of color, so the per-pixel work has no branch on it.
+    let first_row = (y_first - setup.y0) as i64;
+    let rows = (y_first, y_last, band_y0);
+    match &setup.colors {
+        ColorPlanes::Constant(c) => rasterize_rows(setup, rows, ConstantWalk(*c), buffer),
+        ColorPlanes::Linear(p) => {
+            rasterize_rows(setup, rows, LinearWalk::start(p, first_row), buffer)
+        }
+        ColorPlanes::Quadratic(p) => {
+            rasterize_rows(setup, rows, QuadraticWalk::start(p, first_row), buffer)
+        }
+        ColorPlanes::Phong(p) => {
+            rasterize_rows(setup, rows, PhongWalk::start(p, first_row), buffer)
+        }
+    }
+}
+
+/// Rasterizes image rows `rows.0 ..= rows.1` of `setup` into the band starting
+/// at image row `rows.2`, colors from `colors` (positioned at row `rows.0`).
+// Kept out of line: one copy per kind of color, each with its own registers.
+#[inline(never)]
+fn rasterize_rows<M: CoverageMask, B: BandBuffer<M>, W: ColorWalk>(
+    setup: &TriangleSetup,
+    rows: (u16, u16, u16),
+    mut colors: W,
+    buffer: &mut B,
+) {
+    let (y_first, y_last, band_y0) = rows;
     let margin = setup
         .edges
         .map(|e| e.a.abs() * M::max_offset_x() as i64 + e.b.abs() * M::max_offset_y() as i64);
     let step_x = setup.edges.map(|e| e.a << 4);
     let step_y = setup.edges.map(|e| e.b << 4);
-    for y in y_first..=y_last {
+    // Half-open ranges: inclusive ones cost an extra test per step.
+    for y in y_first..y_last + 1 {
         let dy = (y - setup.y0) as i64;
         let mut e = [0i64; 3];
         for i in 0..3 {
             e[i] = setup.edges[i].origin + dy * step_y[i];
         }
         let mut z = setup.depth.origin + dy * setup.depth.dy;
-        let mut planes = match setup.colors {
-            ColorPlanes::Linear(p) => [
-                p[0].origin + dy * p[0].dy,
-                p[1].origin + dy * p[1].dy,
-                p[2].origin + dy * p[2].dy,
-            ],
-            ColorPlanes::Constant(_) => [0; 3],
-        };
+        let mut pixel_colors = colors.row();
         let row = y - band_y0;
-        for x in setup.x0..=setup.x1 {
+        for x in setup.x0..setup.x1 + 1 {
             let mask = pixel_coverage::<M>(&e, &setup.edges, &margin);
             if !mask.is_empty() {
-                let color = match setup.colors {
-                    ColorPlanes::Constant(c) => c,
-                    ColorPlanes::Linear(_) => {
-                        Rgb888::new(channel(planes[0]), channel(planes[1]), channel(planes[2]))
-                    }
-                };
+                let color = colors.color(&pixel_colors);
                 let fragment = Fragment {
                     mask,
                     z: ((z + (1 << 15)) >> 16).clamp(0, DEPTH_MAX as i64) as u32,
@@ -118,11 +133,8 @@ pub fn rasterize<M: CoverageMask, B: BandBuffer<M>>(
                 e[i] += step_x[i];
             }
             z += setup.depth.dx;
-            if let ColorPlanes::Linear(p) = &setup.colors {
-                for c in 0..3 {
-                    planes[c] += p[c].dx;
-                }
-            }
+            colors.step(&mut pixel_colors);
         }
+        colors.next_row();
     }
 }

@@ -14,6 +14,7 @@ use crate::geometry::{outcode, project, ObjectTransform, ViewBasis};
 use crate::lighting::{color_q8, normalize_unit, LightSetup};
 use crate::scene::{Scene, SceneError, Shading};
 use crate::setup::{is_backfacing, signed_area2, ColorSource, SetupVertex};
+use crate::shading::{clipped_piece_source, TriangleLighting};
 use crate::sink::LineSink;
 use crate::stats::{FrameStats, GeometryStats};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -310,7 +311,7 @@ fn transform_vertices(
             let code = outcode(&c);
             let (x, y, z) = if code == 0 { project(&c) } else { (0, 0, 0) };
             let color = match (shading, &ctx.light) {
-                (Shading::Gouraud, Some(light)) => {
+                (Shading::Gouraud | Shading::Quadratic, Some(light)) => {
                     let n = mesh.normals[i].map(|v| v.to_bits() as i32);
                     let lit = light.shade(&transform.normal_to_eye(&n), base_color);
                     lit.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8)
@@ -451,8 +452,25 @@ fn bin_triangles(
 fn color_source(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> ColorSource {
     let (o, i) = split(t);
     let object = &ctx.scene.objects[o];
+    let eye_normals = || {
+        let tri = object.mesh.triangles[i];
+        tri.map(|v| {
+            let n = object.mesh.normals[v as usize].map(|c| c.to_bits() as i32);
+            ws.objects[o].transform.normal_to_eye(&n)
+        })
+    };
     match (ctx.shading(o), &ctx.light) {
         (Shading::Gouraud, Some(_)) => ColorSource::Linear,
+        (Shading::Quadratic, Some(light)) => ColorSource::Quadratic(TriangleLighting {
+            normals: eye_normals(),
+            light: *light,
+            base: object.color,
+        }),
+        (Shading::Phong, Some(light)) => ColorSource::Phong(TriangleLighting {
+            normals: eye_normals(),
+            light: *light,
+            base: object.color,
+        }),
         (Shading::Flat, Some(light)) => {
             let tri = object.mesh.triangles[i];
             let mut sum = [0i64; 3];
@@ -505,9 +523,14 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     // Clipped path: transform the corners again at full range and cut the triangle.
     let transform = &ws.objects[o].transform;
     let tri = object.mesh.triangles[i];
+    let normals = match colors {
+        ColorSource::Quadratic(lighting) | ColorSource::Phong(lighting) => lighting.normals,
+        _ => [[0; 3]; 3],
+    };
     let clip_in: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
         clip: transform.to_clip(&object.mesh.positions[tri[k] as usize]),
         color: color_q8(Rgb888::new(v[k].color[0], v[k].color[1], v[k].color[2])),
+        normal: normals[k],
     });
     let poly = clip_triangle(&clip_in, or);
     if poly.len < 3 {
@@ -528,8 +551,18 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     });
     for k in 1..poly.len - 1 {
         stats.triangle_setups += 1;
-        let fan = [projected[0], projected[k], projected[k + 1]];
+        let mut fan = [projected[0], projected[k], projected[k + 1]];
+        // Quadratic and Phong pieces need their corners' normals (and lit colors).
+        let corner_normals = [0, k, k + 1].map(|c| poly.vertices[c].normal);
+        let mut corner_colors = fan.map(|p| p.color);
+        let piece = DrawParams {
+            colors: clipped_piece_source(colors, &corner_normals, &mut corner_colors),
+            ..params
+        };
+        for (p, c) in fan.iter_mut().zip(corner_colors) {
+            p.color = c;
+        }
         // A piece may be degenerate or off screen; nothing to count then.
-        let _ = buffer.draw_triangle(&fan, &params, y0, rows);
+        let _ = buffer.draw_triangle(&fan, &piece, y0, rows);
     }
 }

@@ -54,6 +54,12 @@ pub enum Shading {
     Flat,
     /// Lit at the vertices, colors interpolated linearly across the triangle.
     Gouraud,
+    /// Lit at the vertices and the edge midpoints, colors from the quadratic
+    /// through those six samples, stepped by forward differences.
+    Quadratic,
+    /// The normal interpolated across the triangle and lit at every pixel
+    /// (the reference for the others; an integer square root and divisions per pixel).
+    Phong,
 }
 
 /// A mesh placed in the world.

@@ -14,6 +14,10 @@
 use crate::fixed_point::{saturate, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::GRADIENT_LIMIT;
 use crate::lighting::ColorQ8;
+use crate::shading::{
+    fit_quadratic, light_midpoints, normal_planes, samples_are_planar, PhongPlanes,
+    QuadraticPolynomial, QuadraticSamples, TriangleLighting,
+};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// A vertex in window coordinates, ready for setup.
@@ -36,6 +40,12 @@ pub enum ColorSource {
     Constant(Rgb888),
     /// Vertex colors interpolated linearly in screen space (Gouraud).
     Linear,
+    /// A quadratic through the vertex colors and the lit edge midpoints, stepped
+    /// by forward differences (SPEC section 8, [`crate::shading`]).
+    Quadratic(TriangleLighting),
+    /// The normal interpolated linearly in screen space and lit at every pixel
+    /// (Phong; the reference).
+    Phong(TriangleLighting),
 }
 
 /// One edge function, biased for the top-left rule.
@@ -67,6 +77,10 @@ pub enum ColorPlanes {
     Constant(Rgb888),
     /// One plane per channel, values with 16 fraction bits.
     Linear([Plane; 3]),
+    /// One lattice polynomial per channel ([`crate::shading::QUADRATIC_FRACTION_BITS`]).
+    Quadratic([QuadraticPolynomial; 3]),
+    /// Normal planes and the light, lit per pixel.
+    Phong(PhongPlanes),
 }
 
 /// Why a triangle produced no setup.
@@ -123,6 +137,36 @@ pub fn signed_area2(v: &[SetupVertex; 3]) -> i64 {
 /// triangles are edge-on and cover almost nothing.
 const DEPTH_STEP_LIMIT: i64 = 1 << 40;
 
+/// Planes through the vertex colors (Q8), values with 16 fraction bits, over
+/// pixel centers from `center` (1/16 pixel); `area2 > 0` for vertices `xs`, `ys`.
+#[inline(always)]
+fn color_planes(
+    v: &[SetupVertex; 3],
+    xs: &[i64; 3],
+    ys: &[i64; 3],
+    center: (i64, i64),
+    area2: i64,
+) -> [Plane; 3] {
+    let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
+    let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
+    let shift = 8 + SUBPIXEL_BITS;
+    let mut planes = [Plane::default(); 3];
+    for (ch, plane) in planes.iter_mut().enumerate() {
+        let c0 = v[0].color[ch] as i64;
+        let dc1 = v[1].color[ch] as i64 - c0;
+        let dc2 = v[2].color[ch] as i64 - c0;
+        let gx = ((dc1 * dy2 - dc2 * dy1) << shift) / area2;
+        let gy = ((dx1 * dc2 - dx2 * dc1) << shift) / area2;
+        *plane = Plane {
+            origin: ((c0 << shift) + gx * (center.0 - xs[0]) + gy * (center.1 - ys[0]))
+                >> SUBPIXEL_BITS,
+            dx: gx,
+            dy: gy,
+        };
+    }
+    planes
+}
+
 impl TriangleSetup {
     /// Sets up a triangle for a `width x height` screen.
     pub fn new(
@@ -140,6 +184,7 @@ impl TriangleSetup {
             return Err(Rejection::Backfacing);
         }
         // Order so that the edge functions are positive inside.
+        let swapped = area2 < 0;
         let v = if area2 > 0 {
             [v[0], v[1], v[2]]
         } else {
@@ -192,24 +237,46 @@ impl TriangleSetup {
             dy: gy,
         };
         let round16 = |g: i64| saturate((g + (1 << 15)) >> 16, GRADIENT_LIMIT as i64) as i32;
+        let linear = || color_planes(&v, &xs, &ys, (cx, cy), area2);
+        // Normals follow the vertices' order.
+        let ordered = |mut lighting: TriangleLighting| {
+            if swapped {
+                lighting.normals.swap(1, 2);
+            }
+            lighting
+        };
         let colors = match colors {
             ColorSource::Constant(c) => ColorPlanes::Constant(c),
-            ColorSource::Linear => {
-                // Channels in Q8 at the vertices, planes with 16 fraction bits.
-                let shift = 8 + SUBPIXEL_BITS;
-                ColorPlanes::Linear(core::array::from_fn(|ch| {
-                    let c0 = v[0].color[ch] as i64;
-                    let dc1 = v[1].color[ch] as i64 - c0;
-                    let dc2 = v[2].color[ch] as i64 - c0;
-                    let gx = ((dc1 * dy2 - dc2 * dy1) << shift) / area2;
-                    let gy = ((dx1 * dc2 - dx2 * dc1) << shift) / area2;
-                    Plane {
-                        origin: ((c0 << shift) + gx * (cx - xs[0]) + gy * (cy - ys[0]))
-                            >> SUBPIXEL_BITS,
-                        dx: gx,
-                        dy: gy,
-                    }
-                }))
+            ColorSource::Linear => ColorPlanes::Linear(linear()),
+            ColorSource::Quadratic(lighting) => {
+                let vertices = v.map(|p| p.color);
+                let samples = QuadraticSamples {
+                    vertices,
+                    midpoints: light_midpoints(&ordered(lighting), &vertices),
+                };
+                let size = (x1 - x0 + 1, y1 - y0 + 1);
+                let fitted = if samples_are_planar(&samples) {
+                    None
+                } else {
+                    fit_quadratic(&xs, &ys, (x0, y0), size, &samples)
+                };
+                match fitted {
+                    Some(channels) => ColorPlanes::Quadratic(channels),
+                    // Samples on a plane, or a sliver far thinner than its box.
+                    None => ColorPlanes::Linear(linear()),
+                }
+            }
+            ColorSource::Phong(lighting) => {
+                let lighting = ordered(lighting);
+                match normal_planes(&xs, &ys, (x0, y0), &lighting.normals) {
+                    Some(normal) => ColorPlanes::Phong(PhongPlanes {
+                        normal,
+                        light: lighting.light,
+                        base: lighting.base,
+                    }),
+                    // Zero area once clamped to the guard band.
+                    None => ColorPlanes::Constant(lighting.base),
+                }
             }
         };
         Ok(Self {

@@ -14,6 +14,15 @@ pub trait LineSink {
     fn write_line(&mut self, y: u16, pixels: &[Rgb888]) -> Result<(), Self::Error>;
 }
 
+/// The 4-bit gray level (0 to 15) of a color, as 4-bit gray displays show it:
+/// luma `(77 R + 150 G + 29 B) / 256` (ITU-R BT.601 weights), rounded, then scaled
+/// to 15 levels with rounding.
+#[inline]
+pub fn gray4(c: Rgb888) -> u8 {
+    let luma = (77 * c.r() as u32 + 150 * c.g() as u32 + 29 * c.b() as u32 + 128) >> 8;
+    ((luma * 15 + 127) / 255) as u8
+}
+
 /// Streams lines to any embedded-graphics [`DrawTarget`] with RGB565 pixels
 /// (an SPI display driver, a simulator window, a framebuffer).
 pub struct DrawTargetSink<'a, D> {
@@ -131,6 +140,14 @@ mod tests {
             screen.pixels[1],
             [Rgb565::RED, Rgb565::GREEN, Rgb565::BLUE, Rgb565::WHITE]
         );
+    }
+
+    #[test]
+    fn gray4_levels() {
+        assert_eq!(gray4(Rgb888::BLACK), 0);
+        assert_eq!(gray4(Rgb888::WHITE), 15);
+        assert_eq!(gray4(Rgb888::new(128, 128, 128)), 8);
+        assert_eq!(gray4(Rgb888::new(0, 255, 0)), 9);
     }
 
     #[test]

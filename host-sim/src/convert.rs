@@ -74,7 +74,9 @@ pub fn to_fixed(desc: &SceneDesc) -> Result<FixedScene, String> {
         let shading = match (o.shading, desc.light.is_some()) {
             (Some(ShadingDesc::Unlit), _) | (None, false) => Shading::Unlit,
             (Some(ShadingDesc::Flat), _) => Shading::Flat,
-            (Some(ShadingDesc::Gouraud), _) | (None, true) => Shading::Gouraud,
+            (Some(ShadingDesc::Gouraud), _) => Shading::Gouraud,
+            (Some(ShadingDesc::Quadratic), _) | (None, true) => Shading::Quadratic,
+            (Some(ShadingDesc::Phong), _) => Shading::Phong,
         };
         let transform = Transform {
             position: fix3(o.position),

@@ -4,6 +4,16 @@
 
 pub use abuffer_scenes::{builtins, obj, scene_desc, scene_file};
 
+pub mod animate;
+pub mod compare;
+pub mod complexity;
 pub mod convert;
+pub mod heat;
 pub mod image_io;
+pub mod memory;
+pub mod plot;
+pub mod qemu;
 pub mod render;
+pub mod shading_compare;
+pub mod ssaa;
+pub mod sweep;

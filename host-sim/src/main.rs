@@ -23,8 +23,16 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Renders a scene to a PNG image and prints the frame statistics.
+    /// Renders a scene to a PNG image (or a turntable animation) and prints the frame statistics.
     Render(RenderArgs),
+    /// Compares an image with a reference: NMSE, PSNR, largest difference, differing pixels.
+    Compare(host_sim::compare::CompareArgs),
+    /// Depth complexity, fragments per pixel, buffer memory and pool peak of a scene.
+    Stats(host_sim::complexity::StatsArgs),
+    /// NMSE against unlimited and memory for every policy at 1..8 fragments per pixel.
+    Sweep(host_sim::sweep::SweepArgs),
+    /// Gouraud, quadratic and phong side by side, with their errors against phong.
+    Shading(host_sim::shading_compare::ShadingArgs),
 }
 
 #[derive(clap::Args)]
@@ -68,6 +76,18 @@ struct RenderArgs {
     /// Also write the statistics as JSON to this file.
     #[arg(long)]
     stats_json: Option<PathBuf>,
+    /// Samples per pixel side for --method ssaa (N x N samples per pixel).
+    #[arg(long, default_value_t = 4)]
+    ssaa: u8,
+    /// Render a turntable animation: every object turns about the vertical axis.
+    #[arg(long)]
+    turntable: bool,
+    /// Frames of the turntable (a full turn; default 36). Output: a .gif, or numbered PNGs.
+    #[arg(long)]
+    frames: Option<u32>,
+    /// Display time of one animation frame, milliseconds.
+    #[arg(long, default_value_t = 80)]
+    frame_ms: u32,
 }
 
 fn load_scene(spec: &str, width: Option<u32>, height: Option<u32>) -> Result<SceneDesc, String> {
@@ -118,7 +138,25 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         pool: args.pool,
         fixed: args.fixed,
         band: args.band,
+        ssaa: args.ssaa,
     };
+    if args.turntable || args.frames.is_some() {
+        if !args.turntable {
+            return Err("--frames needs --turntable (nothing else moves)".into());
+        }
+        let frames = host_sim::animate::run_turntable(
+            &scene,
+            &config,
+            args.frames.unwrap_or(36),
+            args.angle,
+            args.frame_ms,
+            &args.out,
+        )?;
+        if let Some(path) = &args.stats_json {
+            host_sim::animate::write_frames_json(path, &args.scene, &config, &frames)?;
+        }
+        return Ok(());
+    }
     let out = render(&scene, &config, args.angle)?;
     write_png(&args.out, out.width as u32, out.height as u32, &out.rgb)?;
     let s = &out.stats;
@@ -203,6 +241,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Render(args) => run_render(args),
+        Command::Compare(args) => host_sim::compare::run_compare(args),
+        Command::Stats(args) => load_scene(&args.scene, args.width, args.height)
+            .and_then(|desc| host_sim::complexity::run_stats(args, desc)),
+        Command::Sweep(args) => load_scene(&args.scene, args.width, args.height)
+            .and_then(|desc| host_sim::sweep::run_sweep_command(args, desc)),
+        Command::Shading(args) => load_scene(&args.scene, args.width, args.height)
+            .and_then(|desc| host_sim::shading_compare::run_shading(args, desc)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -11,6 +11,7 @@
 mod geom;
 mod shapes;
 mod starfighter;
+pub mod synthetic;
 mod teapot;
 mod teapot_data;
 
@@ -18,11 +19,11 @@ use crate::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc};
 use geom::{add, cross, dot, mul, normalize, sub, Mat3, V3};
 
 /// Names of the built-in scenes.
-pub const BUILTIN_SCENES: &[&str] = &["teapot", "spheres", "starfighter"];
+pub const BUILTIN_SCENES: &[&str] = &["teapot", "spheres", "starfighter", "layers", "grid", "knot"];
 
 /// Names of the built-in meshes, as accepted by [`builtin_mesh`] (besides
 /// the `teapot:N` and `sphere:N` forms).
-pub const BUILTIN_MESHES: &[&str] = &["teapot", "sphere", "starfighter", "cube"];
+pub const BUILTIN_MESHES: &[&str] = &["teapot", "sphere", "starfighter", "cube", "grid", "knot"];
 
 /// Teapot tessellation (segments per patch side) when none is given.
 pub const DEFAULT_TEAPOT_TESSELLATION: u32 = 8;
@@ -36,17 +37,20 @@ pub const DEFAULT_SPHERE_LEVEL: u32 = 3;
 /// Largest accepted icosphere subdivision level.
 pub const MAX_SPHERE_LEVEL: u32 = 8;
 
-const KNOWN_MESHES: &str =
-    "teapot, teapot:N (N = 1..=64), sphere, sphere:N (N = 1..=8), starfighter, cube";
+const KNOWN_MESHES: &str = "teapot, teapot:N (N = 1..=64), sphere, sphere:N (N = 1..=8), \
+    starfighter, cube, grid[:N] (N = 1..=1024), knot[:SEGMENTS[:SIDES]]";
 
 /// A built-in mesh by name.
 ///
 /// Names: `teapot` (tessellation 8), `teapot:N` (N = segments per Bezier
 /// patch side, 1..=64; `32 * N * N * 2` triangles), `sphere` (unit
 /// icosphere, level 3), `sphere:N` (N = 1..=8 levels; `20 * 4^N`
-/// triangles), `starfighter`, `cube` (the cube [-1, 1]^3, 12 triangles). A
-/// leading `builtin:` is ignored, so the `mesh_name` of a built-in scene's
-/// objects is accepted too.
+/// triangles), `starfighter`, `cube` (the cube [-1, 1]^3, 12 triangles),
+/// `grid:N` (a wavy height field over [-1, 1]^2 of the XZ plane, `2 N^2`
+/// triangles) and `knot:SEGMENTS:SIDES` (a (2, 3) torus knot tube within
+/// radius 1, `2 SEGMENTS SIDES` triangles); see [`synthetic`] for their
+/// defaults. A leading `builtin:` is ignored, so the `mesh_name` of a
+/// built-in scene's single-mesh objects is accepted too.
 ///
 /// The teapot sits around the origin within radius 1, lid towards +Y and
 /// spout towards +X; the starfighter has its nose towards -Z and lies within
@@ -73,6 +77,9 @@ pub fn builtin_mesh(name: &str) -> Result<MeshData, String> {
         }
         ("starfighter", None) => Ok(starfighter::starfighter()),
         ("cube", None) => Ok(shapes::cube()),
+        ("grid" | "knot", _) => synthetic::synthetic_mesh(bare).ok_or_else(|| {
+            format!("built-in mesh '{name}': bad parameters (known: {KNOWN_MESHES})")
+        }),
         _ => Err(format!(
             "unknown built-in mesh '{name}' (known: {KNOWN_MESHES})"
         )),
@@ -93,14 +100,17 @@ fn parse_param(name: &str, arg: Option<&str>, default: u32, max: u32) -> Result<
 }
 
 /// A built-in scene by name at the given image size: `teapot` (also
-/// `teapot:N` for another tessellation), `spheres` or `starfighter`. `None`
-/// for an unknown name.
+/// `teapot:N` for another tessellation), `spheres`, `starfighter`, or one of
+/// the synthetic scenes `layers:N:DEPTH:SEED`, `grid:N` and
+/// `knot:SEGMENTS:SIDES` (see [`synthetic`]). `None` for an unknown name or
+/// bad parameters.
 ///
 /// Each scene has one directional light, a dark background and a camera
 /// looking slightly down at the object(s), which fill about three quarters
 /// of the image.
 pub fn builtin_scene(name: &str, width: u32, height: u32) -> Option<SceneDesc> {
     let bare = name.strip_prefix("builtin:").unwrap_or(name);
+    let mut toward_eye = [0.0, 0.38, 1.0];
     let objects = match bare {
         "spheres" => spheres_objects(),
         "starfighter" => vec![ObjectDesc {
@@ -119,10 +129,14 @@ pub fn builtin_scene(name: &str, width: u32, height: u32) -> Option<SceneDesc> {
             [220, 170, 120],
             [0.0, 30.0, 0.0],
         )],
-        _ => return None,
+        _ => {
+            let synthetic = synthetic::synthetic_scene(bare)?;
+            toward_eye = synthetic.toward_eye;
+            synthetic.objects
+        }
     };
     let aspect = width.max(1) as f32 / height.max(1) as f32;
-    let camera = frame_objects(&objects, [0.0, 0.38, 1.0], 40.0, aspect, 0.75);
+    let camera = frame_objects(&objects, toward_eye, 40.0, aspect, 0.75);
     Some(SceneDesc {
         width,
         height,

@@ -27,12 +27,12 @@ pub fn normal_bits(n: [f32; 3]) -> [i16; 3] {
 }
 
 /// The shading of an object as the renderer's mode name, resolving the default
-/// (lit when the scene has a light).
+/// (quadratic when the scene has a light, unlit otherwise).
 pub fn resolve_shading(shading: Option<ShadingDesc>, has_light: bool) -> ShadingDesc {
     match (shading, has_light) {
         (Some(s), _) => s,
         (None, false) => ShadingDesc::Unlit,
-        (None, true) => ShadingDesc::Gouraud,
+        (None, true) => ShadingDesc::Quadratic,
     }
 }
 

@@ -58,6 +58,11 @@ pub enum ShadingDesc {
     Flat,
     /// Lit per vertex, interpolated linearly (Gouraud).
     Gouraud,
+    /// Lit at the vertices and edge midpoints, a quadratic per triangle stepped
+    /// by forward differences.
+    Quadratic,
+    /// The normal interpolated and lit at every pixel (the reference).
+    Phong,
 }
 
 /// One object of a scene: a mesh placed in the world.

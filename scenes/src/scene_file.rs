@@ -30,7 +30,7 @@
 //! rotation_deg = [0.0, 30.0, 0.0]  # optional; about X, then Y, then Z
 //! scale = 1.0                      # optional, default 1
 //! cull_backfaces = false           # optional, default false
-//! shading = "gouraud"              # optional: "unlit", "flat" or "gouraud"
+//! shading = "quadratic"            # optional: "unlit", "flat", "gouraud", "quadratic" or "phong"
 //! ```
 //!
 //! Unknown keys are errors, and every value is checked; errors carry the
@@ -144,6 +144,8 @@ enum RawShading {
     Unlit,
     Flat,
     Gouraud,
+    Quadratic,
+    Phong,
 }
 
 impl From<RawShading> for ShadingDesc {
@@ -152,6 +154,8 @@ impl From<RawShading> for ShadingDesc {
             RawShading::Unlit => ShadingDesc::Unlit,
             RawShading::Flat => ShadingDesc::Flat,
             RawShading::Gouraud => ShadingDesc::Gouraud,
+            RawShading::Quadratic => ShadingDesc::Quadratic,
+            RawShading::Phong => ShadingDesc::Phong,
         }
     }
 }

@@ -429,9 +429,24 @@ fn scene_missing_required_parts() {
 }
 
 #[test]
+fn scene_shading_names() {
+    for (name, shading) in [
+        ("unlit", ShadingDesc::Unlit),
+        ("flat", ShadingDesc::Flat),
+        ("gouraud", ShadingDesc::Gouraud),
+        ("quadratic", ShadingDesc::Quadratic),
+        ("phong", ShadingDesc::Phong),
+    ] {
+        let text = scene_text("", "", &format!("shading = \"{name}\""));
+        let scene = parse_scene(&text, "test.toml", &data_dir()).unwrap();
+        assert_eq!(scene.objects[0].shading, Some(shading), "{name}");
+    }
+}
+
+#[test]
 fn scene_bad_shading_name() {
-    let err = scene_error(&scene_text("", "", "shading = \"phong\""));
-    assert_error(&err, Some(8), &["phong", "gouraud"]);
+    let err = scene_error(&scene_text("", "", "shading = \"toon\""));
+    assert_error(&err, Some(8), &["toon", "gouraud", "quadratic", "phong"]);
 }
 
 #[test]

@@ -1,26 +1,20 @@
-//! Shared helpers for the system tests of `mcu_abuffer`.
-//!
-//! This crate depends on `mcu-abuffer` but not on `embedded-graphics-core`, so the
-//! color type the library uses (`Rgb888`) cannot be named here. Colors are therefore
-//! kept as `[u8; 3]` in the tests; [`color_carrier`] produces a library color value
-//! (inside a fragment) and [`rgb_of`] reads one back. For the same reason the tests
-//! cannot implement `BandBuffer` themselves (its `resolve_row` mentions `Rgb888`):
-//! fragment streams are captured with a `FragmentBuffer` instead (see
-//! [`capture_masks`] and [`triangle_streams`]).
+//! Shared helpers for the system tests of `mcu_abuffer`: a seeded PRNG, owned
+//! fragment-buffer storage, a `render_frame` wrapper that returns the RGB888 image,
+//! random scene generators, and the capture of each triangle's fragment stream.
+//! Colors are kept as `[u8; 3]` in the tests and converted at the library boundary.
 
+use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
-use mcu_abuffer::coverage::{CoverageMask, Mask1x1};
+use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::{Fragment, PackedFragment};
 use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
 use mcu_abuffer::geometry::{outcode, project, ClipTransform, ObjectTransform, ViewBasis};
-use mcu_abuffer::lighting::color_q8;
-use mcu_abuffer::raster::rasterize;
 use mcu_abuffer::renderer::{
     render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
 };
 use mcu_abuffer::scene::{Camera, Light, Mesh, Normal, Scene, SceneObject, Shading, Transform};
-use mcu_abuffer::setup::{is_backfacing, signed_area2, ColorSource, SetupVertex, TriangleSetup};
+use mcu_abuffer::setup::{is_backfacing, signed_area2, SetupVertex};
 use mcu_abuffer::sink::ImageSink;
 use mcu_abuffer::stats::FrameStats;
 
@@ -88,57 +82,19 @@ impl Rng {
 // Colors
 // ---------------------------------------------------------------------------------
 
-/// A one-pixel fragment whose `color` is the library color `rgb`.
-///
-/// Made by rasterizing a small triangle with three equal vertex colors (linear
-/// shading reproduces a constant exactly) into a 1x1 fragment buffer.
-pub fn color_carrier(rgb: [u8; 3]) -> Fragment<Mask1x1> {
-    let q8 = rgb.map(|c| (c as i32) << 8);
-    let v = |x: i32, y: i32| SetupVertex {
-        x,
-        y,
-        z: 0,
-        color: q8,
-    };
-    let setup = TriangleSetup::new(
-        &[v(0, 0), v(64, 0), v(0, 64)],
-        false,
-        ColorSource::Linear,
-        1,
-        1,
-    )
-    .expect("carrier triangle");
-    let config = BufferConfig {
-        width: 1,
-        band_height: 1,
-        main_slots: 1,
-        extra_addresses: 0,
-        policy: OverflowPolicy::MergeFarthest,
-    };
-    let mut counts = [0u8; 1];
-    let mut main = [PackedFragment::<Mask1x1>::default(); 1];
-    let mut addresses: [u16; 0] = [];
-    let mut pool: [PackedFragment<Mask1x1>; 0] = [];
-    let mut buffer = FragmentBuffer::new(
-        config,
-        BufferStorage {
-            counts: &mut counts,
-            main: &mut main,
-            addresses: &mut addresses,
-            pool: &mut pool,
-        },
-    )
-    .expect("carrier buffer");
-    buffer.begin_band(0, 1);
-    rasterize::<Mask1x1, _>(&setup, 0, 1, &mut buffer);
-    let f = buffer.fragments(0, 0).next().expect("carrier fragment");
-    assert_eq!(rgb_of(&f), rgb, "color carrier must reproduce its color");
-    f
+/// The library color of `rgb`.
+pub fn rgb888(rgb: [u8; 3]) -> Rgb888 {
+    Rgb888::new(rgb[0], rgb[1], rgb[2])
+}
+
+/// The channels of a library color.
+pub fn channels(c: Rgb888) -> [u8; 3] {
+    [c.r(), c.g(), c.b()]
 }
 
 /// The color of a fragment as 8-bit channels.
 pub fn rgb_of<M: CoverageMask>(f: &Fragment<M>) -> [u8; 3] {
-    color_q8(f.color).map(|c| (c >> 8) as u8)
+    channels(f.color)
 }
 
 /// A fragment from its parts.
@@ -154,7 +110,7 @@ pub fn fragment<M: CoverageMask>(
         z,
         dzdx,
         dzdy,
-        color: color_carrier(rgb).color,
+        color: rgb888(rgb),
     }
 }
 
@@ -259,7 +215,7 @@ where
     let mut rows = vec![0u16; scene.triangle_count()];
     let mut order = vec![0u32; scene.triangle_count()];
     let mut row_starts = vec![0u32; h + 1];
-    let mut line = vec![color_carrier([0, 0, 0]).color; w];
+    let mut line = vec![Rgb888::BLACK; w];
     let mut image = vec![0u8; w * h * 3];
     let stats = {
         let mut ws = FrameWorkspace {
@@ -275,33 +231,6 @@ where
             .unwrap_or_else(|e| panic!("render_frame failed: {e}"))
     };
     (image, stats)
-}
-
-/// Rasterizes one set-up triangle alone into `storage` (whose band must cover the
-/// whole `height`) and returns the coverage mask of every pixel it touches.
-pub fn capture_masks<M: CoverageMask>(
-    setup: &TriangleSetup,
-    height: u16,
-    storage: &mut AStorage<M>,
-) -> Vec<(u16, u16, M)> {
-    assert!(storage.config().band_height >= height);
-    let mut buffer = storage.buffer();
-    buffer.begin_band(0, height);
-    rasterize::<M, _>(setup, 0, height, &mut buffer);
-    let mut out = Vec::new();
-    for y in setup.y0..=setup.y1.min(height - 1) {
-        for x in setup.x0..=setup.x1 {
-            let frags: Vec<Fragment<M>> = buffer.fragments(x, y).collect();
-            assert!(
-                frags.len() <= 1,
-                "one triangle left several fragments in a pixel"
-            );
-            if let Some(f) = frags.first() {
-                out.push((x, y, f.mask));
-            }
-        }
-    }
-    out
 }
 
 // ---------------------------------------------------------------------------------
@@ -388,15 +317,19 @@ fn coord(v: f64) -> Coord {
     Coord::from_num(v)
 }
 
+/// Half the visible width and height at the origin, in world units (camera 10 units
+/// away with a 60-degree vertical field).
+fn half_extent(p: &SceneParams) -> (f64, f64) {
+    let half_h = 10.0 * (30f64).to_radians().tan();
+    (half_h * p.width as f64 / p.height as f64, half_h)
+}
+
 impl OwnedScene {
     /// A random scene: triangles of random size at random depths around the origin,
     /// many of them crossing a partner (interpenetrating), a few exact duplicates
     /// (depth ties), split over up to four objects with mixed shading.
     pub fn random(rng: &mut Rng, p: &SceneParams) -> Self {
-        let aspect = p.width as f64 / p.height as f64;
-        // Camera 10 units away, 60 degrees vertical field: about 5.77 units half-height.
-        let half_h = 10.0 * (30f64).to_radians().tan();
-        let half_w = half_h * aspect;
+        let (half_w, half_h) = half_extent(p);
         let n = rng.range(p.min_triangles as i64, p.max_triangles as i64) as usize;
         let mut tris: Vec<[[f64; 3]; 3]> = Vec::with_capacity(n);
         while tris.len() < n {
@@ -420,6 +353,18 @@ impl OwnedScene {
                     tris.push(t);
                     continue;
                 }
+                if rng.chance(0.03) {
+                    // Nearly edge-on: tiny on screen, steep in depth.
+                    let c = prev[0];
+                    let d = [rng.float(-1.0, 1.0), rng.float(-1.0, 1.0)];
+                    let t = [
+                        c,
+                        [c[0] + d[0], c[1] + d[1], c[2] + 2.0],
+                        [c[0] + 0.02 * d[1], c[1] - 0.02 * d[0], c[2] - 2.0],
+                    ];
+                    tris.push(t);
+                    continue;
+                }
             }
             let c = [
                 rng.float(-half_w, half_w),
@@ -437,6 +382,70 @@ impl OwnedScene {
             });
             tris.push(t);
         }
+        Self::assemble(rng, p, tris)
+    }
+
+    /// A scene whose pixels are deep: thin triangles fanning out from a few hubs at
+    /// random depths, so the pixels near a hub hold many fragments, plus a few large
+    /// tilted triangles behind and through them.
+    pub fn deep(rng: &mut Rng, p: &SceneParams) -> Self {
+        let (half_w, half_h) = half_extent(p);
+        let n = rng.range(p.min_triangles as i64, p.max_triangles as i64) as usize;
+        let hubs: Vec<[f64; 2]> = (0..rng.range(1, 3))
+            .map(|_| {
+                [
+                    rng.float(-half_w, half_w) * 0.8,
+                    rng.float(-half_h, half_h) * 0.8,
+                ]
+            })
+            .collect();
+        let mut tris: Vec<[[f64; 3]; 3]> = Vec::with_capacity(n);
+        for _ in 0..rng.range(1, 3) {
+            let z = rng.float(-3.0, 0.0);
+            tris.push([
+                [-half_w * 1.2, -half_h * 1.2, z + rng.float(-1.0, 1.0)],
+                [half_w * 1.2, -half_h * 1.2, z + rng.float(-1.0, 1.0)],
+                [
+                    rng.float(-half_w, half_w),
+                    half_h * 1.2,
+                    z + rng.float(-1.0, 1.0),
+                ],
+            ]);
+        }
+        while tris.len() < n {
+            let h = hubs[rng.below(hubs.len() as u64) as usize];
+            let a = rng.float(0.0, std::f64::consts::TAU);
+            let len = rng.float(p.min_size, p.max_size) * 2.0;
+            let width = rng.float(0.01, 0.06);
+            let hub = [h[0] + rng.float(-0.02, 0.02), h[1] + rng.float(-0.02, 0.02)];
+            let (dx, dy) = (a.cos(), a.sin());
+            let side = [-dy * width, dx * width];
+            let z = rng.float(-3.0, 3.0);
+            let tilt = rng.float(-1.0, 1.0);
+            // A long thin triangle crossing the hub, half as wide there as at its base.
+            let tip = [hub[0] - len * dx, hub[1] - len * dy];
+            let base = [hub[0] + len * dx, hub[1] + len * dy];
+            let zb = z + tilt * len;
+            tris.push([
+                [tip[0], tip[1], z - tilt * len],
+                [
+                    base[0] + side[0],
+                    base[1] + side[1],
+                    zb + rng.float(-0.5, 0.5),
+                ],
+                [
+                    base[0] - side[0],
+                    base[1] - side[1],
+                    zb + rng.float(-0.5, 0.5),
+                ],
+            ]);
+        }
+        Self::assemble(rng, p, tris)
+    }
+
+    /// Objects, camera, light and background around the given triangles.
+    fn assemble(rng: &mut Rng, p: &SceneParams, tris: Vec<[[f64; 3]; 3]>) -> Self {
+        let n = tris.len();
         let n_objects = rng.range(1, 4.min(n as i64)) as usize;
         let mut cuts: Vec<usize> = (0..n_objects - 1)
             .map(|_| rng.range(1, n as i64 - 1) as usize)
@@ -473,10 +482,12 @@ impl OwnedScene {
             } else {
                 Transform::default()
             };
-            let shading = match rng.below(3) {
+            let shading = match rng.below(5) {
                 0 => Shading::Unlit,
                 1 => Shading::Flat,
-                _ => Shading::Gouraud,
+                2 => Shading::Gouraud,
+                3 => Shading::Quadratic,
+                _ => Shading::Phong,
             };
             objects.push(OwnedObject {
                 positions,
@@ -491,7 +502,7 @@ impl OwnedScene {
         let eye = if p.rotate {
             let az = rng.float(-1.0, 1.0);
             let el = rng.float(-0.6, 0.6);
-            let r = rng.float(9.0, 12.0);
+            let r = rng.float(5.0, 9.0);
             [
                 r * el.cos() * az.sin(),
                 r * el.sin(),
@@ -562,7 +573,7 @@ impl OwnedScene {
                 normals: &o.normals,
                 triangles,
             },
-            color: color_carrier(o.color).color,
+            color: rgb888(o.color),
             transform: o.transform,
             cull_backfaces: o.cull,
             shading: o.shading,
@@ -574,7 +585,7 @@ impl OwnedScene {
         Scene {
             width: self.width,
             height: self.height,
-            background: color_carrier(self.background).color,
+            background: rgb888(self.background),
             camera: self.camera,
             light: self.light,
             objects,

@@ -10,96 +10,21 @@
 #![no_std]
 #![no_main]
 
-use core::sync::atomic::{AtomicU32, Ordering};
-use cortex_m::peripheral::syst::SystClkSource;
-use cortex_m_rt::{entry, exception};
-use cortex_m_semihosting::{debug, hio};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::debug;
 use defmt_semihosting as _;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
-use mcu_abuffer::coverage::{CoverageMask, Mask1x1};
+use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::fixed_point::Coord;
-use mcu_abuffer::fragment::PackedFragment;
-use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
-use mcu_abuffer::geometry::{ClipTransform, ObjectTransform};
-use mcu_abuffer::renderer::{render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex};
+use mcu_abuffer::renderer::{render_frame, FrameOptions, FrameWorkspace};
 use mcu_abuffer::sink::LineSink;
 use mcu_abuffer::stats::FrameStats;
-use mcu_abuffer::zbuffer::ZBuffer;
 
-/// Which kind of pixel memory a build uses.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Method {
-    ABuffer,
-    ZBuffer,
-}
+#[path = "../common.rs"]
+mod common;
 
-mod config {
-    use super::{Method, OverflowPolicy};
-    include!(concat!(env!("OUT_DIR"), "/config.rs"));
-}
-
-mod scene {
-    use embedded_graphics_core::pixelcolor::Rgb888;
-    use fixed::types::I2F14;
-    use mcu_abuffer::fixed_point::Coord;
-    use mcu_abuffer::scene::{Camera, Light, Mesh, Normal, Scene, SceneObject, Shading, Transform};
-    include!(concat!(env!("OUT_DIR"), "/scene_data.rs"));
-}
-
-use config::*;
-
-// The build script's memory arithmetic must use the real sizes.
-const _: () = assert!(core::mem::size_of::<ScreenVertex>() == SCREEN_VERTEX_BYTES);
-const _: () = assert!(core::mem::size_of::<ObjectFrame>() <= OBJECT_FRAME_BYTES);
-const _: () = assert!(core::mem::size_of::<Rgb888>() == COLOR_BYTES);
-const _: () = assert!(PackedFragment::<Mask>::SIZE == FRAGMENT_BYTES);
-
-const SYSTICK_RELOAD: u32 = 0x00FF_FFFF;
-/// Instructions per SysTick tick under `-icount shift=0` at 25 MHz.
-const INSTRUCTIONS_PER_TICK: u64 = 40;
-
-static SYSTICK_WRAPS: AtomicU32 = AtomicU32::new(0);
-
-#[exception]
-fn SysTick() {
-    SYSTICK_WRAPS.fetch_add(1, Ordering::Relaxed);
-}
-
-/// SysTick ticks since start (64-bit, counting wraps).
-fn ticks() -> u64 {
-    loop {
-        let before = SYSTICK_WRAPS.load(Ordering::Relaxed);
-        let current = cortex_m::peripheral::SYST::get_current();
-        let after = SYSTICK_WRAPS.load(Ordering::Relaxed);
-        if before == after {
-            return before as u64 * (SYSTICK_RELOAD as u64 + 1) + (SYSTICK_RELOAD - current) as u64;
-        }
-    }
-}
-
-const ABUF_PIXELS: usize = if matches!(METHOD, Method::ABuffer) { WIDTH * BAND } else { 0 };
-const ZBUF_PIXELS: usize = if matches!(METHOD, Method::ZBuffer) { WIDTH * BAND } else { 0 };
-
-static mut COUNTS: [u8; ABUF_PIXELS] = [0; ABUF_PIXELS];
-static mut MAIN_SLOTS: [PackedFragment<Mask>; ABUF_PIXELS * MAIN] = [PackedFragment::EMPTY; ABUF_PIXELS * MAIN];
-static mut ADDRESSES: [u16; ABUF_PIXELS * EXTRA] = [0; ABUF_PIXELS * EXTRA];
-static mut POOL_SLOTS: [PackedFragment<Mask>; POOL] = [PackedFragment::EMPTY; POOL];
-static mut DEPTHS: [u32; ZBUF_PIXELS] = [0; ZBUF_PIXELS];
-static mut COLORS: [Rgb888; ZBUF_PIXELS] = [Rgb888::BLACK; ZBUF_PIXELS];
-
-const EMPTY_OBJECT: ObjectFrame = ObjectFrame {
-    transform: ObjectTransform { clip: ClipTransform { rows: [[0; 3]; 4], offsets: [0; 4] }, normal: [[0; 3]; 3] },
-    vertex_base: 0,
-    triangle_base: 0,
-};
-const EMPTY_VERTEX: ScreenVertex = ScreenVertex { x: 0, y: 0, z: 0, color: [0; 3], outcode: 0 };
-static mut WS_OBJECTS: [ObjectFrame; OBJECTS_LEN] = [EMPTY_OBJECT; OBJECTS_LEN];
-static mut WS_VERTICES: [ScreenVertex; VERTICES] = [EMPTY_VERTEX; VERTICES];
-static mut WS_ROWS: [u16; TRIANGLES] = [0; TRIANGLES];
-static mut WS_ORDER: [u32; TRIANGLES] = [0; TRIANGLES];
-static mut WS_ROW_STARTS: [u32; HEIGHT + 1] = [0; HEIGHT + 1];
-static mut WS_LINE: [Rgb888; WIDTH] = [Rgb888::BLACK; WIDTH];
+use common::*;
 
 /// A file on the host, through semihosting.
 struct HostFile {
@@ -198,22 +123,6 @@ fn write_fields(file: &mut HostFile, fields: &[u64]) {
         let _ = file.write_all(decimal(v, &mut buf));
     }
     let _ = file.write_all(b"\n");
-}
-
-fn fail(message: &str) -> ! {
-    if let Ok(mut err) = hio::hstderr() {
-        let _ = err.write_all(message.as_bytes());
-        let _ = err.write_all(b"\n");
-    }
-    defmt::error!("{=str}", message);
-    debug::exit(debug::EXIT_FAILURE);
-    #[allow(clippy::empty_loop)]
-    loop {}
-}
-
-#[panic_handler]
-fn panic(_info: &core::panic::PanicInfo) -> ! {
-    fail("panic");
 }
 
 fn frame_file(index: usize) -> Option<HostFile> {
@@ -384,11 +293,7 @@ fn main() -> ! {
         Some(p) => p,
         None => fail("peripherals taken twice"),
     };
-    core.SYST.set_clock_source(SystClkSource::Core);
-    core.SYST.set_reload(SYSTICK_RELOAD);
-    core.SYST.clear_current();
-    core.SYST.enable_interrupt();
-    core.SYST.enable_counter();
+    start_tick_counter(&mut core.SYST);
 
     defmt::info!(
         "scene {=str}: {=usize} triangles, {=usize}x{=usize}, {=str} {=str}, band {=usize}, main {=usize}, extra {=usize}, pool {=usize}",
@@ -411,52 +316,15 @@ fn main() -> ! {
         b"frame,instructions,output_instructions,generated,stored,hidden_on_arrival,removed_hidden,merges,discarded,pool_peak,max_in_pixel,triangles,checksum\n",
     );
 
-    // SAFETY: `main` runs once and is the only code touching these statics; each is
-    // borrowed exactly once here for the rest of the program.
-    let mut ws = unsafe {
-        FrameWorkspace {
-            objects: &mut *core::ptr::addr_of_mut!(WS_OBJECTS),
-            vertices: &mut *core::ptr::addr_of_mut!(WS_VERTICES),
-            triangle_rows: &mut *core::ptr::addr_of_mut!(WS_ROWS),
-            triangle_order: &mut *core::ptr::addr_of_mut!(WS_ORDER),
-            row_starts: &mut *core::ptr::addr_of_mut!(WS_ROW_STARTS),
-            line: &mut *core::ptr::addr_of_mut!(WS_LINE),
-        }
-    };
-    match METHOD {
-        Method::ABuffer => {
-            let config = BufferConfig {
-                width: WIDTH as u16,
-                band_height: BAND as u16,
-                main_slots: MAIN as u8,
-                extra_addresses: EXTRA as u8,
-                policy: POLICY,
-            };
-            // SAFETY: as above, borrowed once.
-            let storage = unsafe {
-                BufferStorage {
-                    counts: &mut *core::ptr::addr_of_mut!(COUNTS),
-                    main: &mut *core::ptr::addr_of_mut!(MAIN_SLOTS),
-                    addresses: &mut *core::ptr::addr_of_mut!(ADDRESSES),
-                    pool: &mut *core::ptr::addr_of_mut!(POOL_SLOTS),
-                }
-            };
-            let mut buffer: FragmentBuffer<'_, Mask, u16> = match FragmentBuffer::new(config, storage) {
-                Ok(b) => b,
-                Err(_) => fail("fragment buffer configuration rejected"),
-            };
-            run_frames(&mut buffer, &mut ws, &mut stats_file);
-        }
-        Method::ZBuffer => {
-            // SAFETY: as above, borrowed once.
-            let (depth, color) = unsafe { (&mut *core::ptr::addr_of_mut!(DEPTHS), &mut *core::ptr::addr_of_mut!(COLORS)) };
-            let mut buffer = match ZBuffer::new(WIDTH as u16, BAND as u16, depth, color) {
-                Some(b) => b,
-                None => fail("z-buffer configuration rejected"),
-            };
-            run_frames::<Mask1x1, _>(&mut buffer, &mut ws, &mut stats_file);
+    struct Frames<'f> {
+        stats_file: &'f mut HostFile,
+    }
+    impl WithBuffers for Frames<'_> {
+        fn run<M: CoverageMask, B: BandBuffer<M>>(self, buffer: &mut B, ws: &mut FrameWorkspace<'_>) {
+            run_frames(buffer, ws, self.stats_file);
         }
     }
+    with_buffers(Frames { stats_file: &mut stats_file });
     debug::exit(debug::EXIT_SUCCESS);
     #[allow(clippy::empty_loop)]
     loop {}

@@ -1,0 +1,139 @@
+//! The firmware under QEMU (`mps2-an386`, Cortex-M4F): the frames it draws are the
+//! host simulator's, bit for bit; instruction counts are deterministic and within
+//! bounds; parameters that do not fit the board stop the build with a clear message.
+//!
+//! Needs `qemu-system-arm` and the `thumbv7em-none-eabihf` target (the README's test
+//! command installs both).
+
+use host_sim::builtins::builtin_scene;
+use host_sim::convert::to_fixed;
+use host_sim::qemu::{build_m4, run_m4, FirmwareConfig, FirmwareRun};
+use host_sim::render::{render, Grid, Method, RenderConfig};
+use std::path::PathBuf;
+use std::time::Duration;
+
+fn workdir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("abuffer-qemu-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn build_and_run(name: &str, config: &FirmwareConfig) -> FirmwareRun {
+    let dir = workdir(name);
+    let elf = dir.join("firmware.elf");
+    build_m4(config, &[], &elf).unwrap_or_else(|e| panic!("firmware build for {name} failed: {e}"));
+    run_m4(&elf, &dir, Duration::from_secs(300))
+        .unwrap_or_else(|e| panic!("QEMU run for {name} failed: {e}"))
+}
+
+fn host_config(config: &FirmwareConfig) -> RenderConfig {
+    let method = match config.method.as_str() {
+        "shared" => Method::Shared,
+        "zbuffer" => Method::Zbuffer,
+        "fixed-discard" => Method::FixedDiscard,
+        "fixed-merge" => Method::FixedMerge,
+        "merge-closest" => Method::MergeClosest,
+        "unlimited" => Method::Unlimited,
+        other => panic!("unknown method {other}"),
+    };
+    let grid = match config.grid.as_str() {
+        "8x4" => Grid::G8x4,
+        "8x8" => Grid::G8x8,
+        _ => Grid::G4x4,
+    };
+    RenderConfig {
+        method,
+        grid,
+        main: config.main,
+        extra: config.extra,
+        pool: Some(config.pool),
+        fixed: config.fixed,
+        band: config.band,
+        ..RenderConfig::default()
+    }
+}
+
+/// Renders every frame of `config` on the host and compares with the firmware's.
+fn assert_parity(name: &str, config: &FirmwareConfig) -> FirmwareRun {
+    let run = build_and_run(name, config);
+    assert_eq!(
+        run.frames.len(),
+        config.frames as usize,
+        "{name}: frame count"
+    );
+    let scene = to_fixed(&builtin_scene(&config.scene, 240, 240).unwrap()).unwrap();
+    for (i, frame) in run.frames.iter().enumerate() {
+        let host = render(&scene, &host_config(config), config.frame_angle(i as u32)).unwrap();
+        let differing = host
+            .rgb
+            .chunks_exact(3)
+            .zip(frame.chunks_exact(3))
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(
+            differing, 0,
+            "{name} frame {i}: {differing} pixels differ between QEMU and host-sim"
+        );
+        let s = &run.stats[i];
+        let b = &host.stats.buffer;
+        assert_eq!(
+            (s.generated, s.stored, s.merges, s.discarded, s.pool_peak),
+            (
+                b.fragments_generated,
+                b.fragments_stored,
+                b.merges,
+                b.fragments_discarded,
+                b.pool_peak as u64
+            ),
+            "{name} frame {i}: statistics differ"
+        );
+    }
+    run
+}
+
+#[test]
+fn firmware_frames_equal_host_frames_and_counts_are_deterministic() {
+    for scene in ["teapot", "spheres", "starfighter"] {
+        let config = FirmwareConfig {
+            scene: scene.into(),
+            frames: 3,
+            ..FirmwareConfig::default()
+        };
+        let run = assert_parity(scene, &config);
+        for s in &run.stats {
+            assert!(s.instructions > 0 && s.output_instructions < s.instructions);
+        }
+        if scene == "teapot" {
+            // The same binary twice: the same instruction counts, to the tick.
+            let dir = workdir("teapot-again");
+            let elf = dir.join("firmware.elf");
+            build_m4(&config, &[], &elf).unwrap();
+            let again = run_m4(&elf, &dir, Duration::from_secs(300)).unwrap();
+            let counts =
+                |r: &FirmwareRun| r.stats.iter().map(|s| s.instructions).collect::<Vec<_>>();
+            assert_eq!(counts(&run), counts(&again));
+        }
+    }
+    let zbuffer = FirmwareConfig {
+        method: "zbuffer".into(),
+        frames: 2,
+        ..FirmwareConfig::default()
+    };
+    assert_parity("teapot-zbuffer", &zbuffer);
+}
+
+#[test]
+fn parameters_that_do_not_fit_stop_the_build_with_the_overshoot() {
+    let config = FirmwareConfig {
+        pool: 9000,
+        frames: 1,
+        ..FirmwareConfig::default()
+    };
+    let dir = workdir("too-big");
+    let err = build_m4(&config, &[], &dir.join("firmware.elf")).unwrap_err();
+    assert!(
+        err.contains("does not fit") && err.contains("by ") && err.contains("pool 9000"),
+        "{err}"
+    );
+}
