@@ -1,24 +1,39 @@
 #!/usr/bin/env bash
-# Runs every test on a fresh machine: installs what is missing, then checks
-# formatting, lints, the bare-metal library builds and the whole test suite.
+# Runs every test on a fresh machine: installs what is missing (Rust targets,
+# QEMU), then checks formatting and lints, builds the library for bare-metal
+# targets, and runs the whole suite: host unit and system tests, the QEMU
+# firmware parity and instruction-count tests (Cortex-M4) and the SPI display
+# screendump test (Cortex-M3).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 echo "== setup"
 rustup component add rustfmt clippy >/dev/null 2>&1 || true
-rustup target add thumbv7em-none-eabihf thumbv6m-none-eabi
+rustup target add thumbv7em-none-eabihf thumbv7m-none-eabi thumbv6m-none-eabi
+if ! command -v qemu-system-arm >/dev/null 2>&1; then
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "qemu-system-arm is missing and installing it needs root: apt-get install -y qemu-system-arm" >&2
+    exit 1
+  fi
+  apt-get update
+  DEBIAN_FRONTEND=noninteractive apt-get install -y qemu-system-arm
+fi
+qemu-system-arm --version | head -n 1
 
 echo "== format"
 cargo fmt --all -- --check
+cargo fmt --manifest-path firmware/qemu/Cargo.toml -- --check
 
 echo "== clippy"
 cargo clippy --workspace --all-targets -- -D warnings
+cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
+cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi -- -D warnings
 
 echo "== library for Cortex-M4F and Cortex-M0+"
 cargo build -p mcu-abuffer --release --target thumbv7em-none-eabihf
 cargo build -p mcu-abuffer --release --target thumbv6m-none-eabi
 
-echo "== tests"
+echo "== tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump)"
 cargo test --workspace
 
 echo "== main job: render a built-in scene"

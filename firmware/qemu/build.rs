@@ -19,7 +19,9 @@
 //! stop the build with a message naming them and the overshoot.
 
 use abuffer_scenes::builtins::builtin_scene;
-use abuffer_scenes::fixed_bits::{check_convertible, coord3_bits, coord_bits, normal_bits, resolve_shading};
+use abuffer_scenes::fixed_bits::{
+    check_convertible, coord3_bits, coord_bits, normal_bits, resolve_shading,
+};
 use abuffer_scenes::scene_desc::{SceneDesc, ShadingDesc};
 use abuffer_scenes::scene_file::load_scene_file;
 use std::fmt::Write as _;
@@ -37,8 +39,24 @@ struct Board {
 }
 
 const BOARDS: &[Board] = &[
-    Board { feature: "M4", layout: "memory/mps2-an386.x", flash: 512 * 1024, ram: 128 * 1024, default_scene: "teapot", width: 240, height: 240 },
-    Board { feature: "OLED", layout: "memory/lm3s6965.x", flash: 256 * 1024, ram: 64 * 1024, default_scene: "teapot:4", width: 128, height: 64 },
+    Board {
+        feature: "M4",
+        layout: "memory/mps2-an386.x",
+        flash: 512 * 1024,
+        ram: 128 * 1024,
+        default_scene: "teapot",
+        width: 240,
+        height: 240,
+    },
+    Board {
+        feature: "OLED",
+        layout: "memory/lm3s6965.x",
+        flash: 256 * 1024,
+        ram: 64 * 1024,
+        default_scene: "teapot:4",
+        width: 128,
+        height: 64,
+    },
 ];
 
 /// Bytes of the renderer's types, checked against `size_of` in the binaries.
@@ -56,7 +74,9 @@ fn env(name: &str) -> Option<String> {
 fn env_num(name: &str, default: usize) -> usize {
     match env(name) {
         None => default,
-        Some(v) => v.parse().unwrap_or_else(|_| fail(&format!("{name}={v} is not a whole number"))),
+        Some(v) => v
+            .parse()
+            .unwrap_or_else(|_| fail(&format!("{name}={v} is not a whole number"))),
     }
 }
 
@@ -66,19 +86,29 @@ fn fail(message: &str) -> ! {
 }
 
 fn load(spec: &str, root: &Path, board: &Board) -> SceneDesc {
-    let path = if Path::new(spec).is_absolute() { PathBuf::from(spec) } else { root.join(spec) };
+    let path = if Path::new(spec).is_absolute() {
+        PathBuf::from(spec)
+    } else {
+        root.join(spec)
+    };
     if spec.ends_with(".toml") || path.is_file() {
         println!("cargo:rerun-if-changed={}", path.display());
         load_scene_file(&path).unwrap_or_else(|e| fail(&format!("FIRMWARE_SCENE: {e}")))
     } else {
-        builtin_scene(spec, board.width, board.height).unwrap_or_else(|| fail(&format!("FIRMWARE_SCENE: '{spec}' is neither a scene file nor a built-in scene")))
+        builtin_scene(spec, board.width, board.height).unwrap_or_else(|| {
+            fail(&format!(
+                "FIRMWARE_SCENE: '{spec}' is neither a scene file nor a built-in scene"
+            ))
+        })
     }
 }
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=memory");
-    let mut boards = BOARDS.iter().filter(|b| std::env::var(format!("CARGO_FEATURE_{}", b.feature)).is_ok());
+    let mut boards = BOARDS
+        .iter()
+        .filter(|b| std::env::var(format!("CARGO_FEATURE_{}", b.feature)).is_ok());
     let Some(board) = boards.next() else {
         fail("enable one board feature: m4 or oled");
     };
@@ -88,7 +118,10 @@ fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap());
     // The repository root: scene paths are relative to it.
-    let root = manifest.join("../..").canonicalize().unwrap_or(manifest.clone());
+    let root = manifest
+        .join("../..")
+        .canonicalize()
+        .unwrap_or(manifest.clone());
 
     // Memory layout and link scripts for the binaries.
     std::fs::copy(manifest.join(board.layout), out.join("memory.x")).expect("copy memory layout");
@@ -101,10 +134,14 @@ fn main() {
     desc.width = board.width;
     desc.height = board.height;
     if let Some(w) = env("FIRMWARE_WIDTH") {
-        desc.width = w.parse().unwrap_or_else(|_| fail("FIRMWARE_WIDTH must be a number"));
+        desc.width = w
+            .parse()
+            .unwrap_or_else(|_| fail("FIRMWARE_WIDTH must be a number"));
     }
     if let Some(h) = env("FIRMWARE_HEIGHT") {
-        desc.height = h.parse().unwrap_or_else(|_| fail("FIRMWARE_HEIGHT must be a number"));
+        desc.height = h
+            .parse()
+            .unwrap_or_else(|_| fail("FIRMWARE_HEIGHT must be a number"));
     }
     check_convertible(&desc).unwrap_or_else(|e| fail(&format!("FIRMWARE_SCENE {spec}: {e}")));
     let frames = env_num("FIRMWARE_FRAMES", 4).max(1);
@@ -131,7 +168,9 @@ fn main() {
         fail(&format!("FIRMWARE_MAIN={main} FIRMWARE_EXTRA={extra}: need 1 <= N_main and N_main + N_extra <= 255"));
     }
     if pool > 65535 {
-        fail(&format!("FIRMWARE_POOL={pool}: a pool address is 16 bits, so at most 65535 slots"));
+        fail(&format!(
+            "FIRMWARE_POOL={pool}: a pool address is 16 bits, so at most 65535 slots"
+        ));
     }
     let stack_reserve = env_num("FIRMWARE_STACK_RESERVE", 8192);
 
@@ -161,7 +200,11 @@ fn main() {
             ram_needed - board.ram
         ));
     }
-    let mesh_bytes: usize = desc.objects.iter().map(|o| o.mesh.positions.len() * (12 + 6) + o.mesh.triangles.len() * 12).sum();
+    let mesh_bytes: usize = desc
+        .objects
+        .iter()
+        .map(|o| o.mesh.positions.len() * (12 + 6) + o.mesh.triangles.len() * 12)
+        .sum();
     if mesh_bytes + CODE_RESERVE > board.flash {
         fail(&format!(
             "FIRMWARE_SCENE {spec}: meshes take {mesh_bytes} bytes; with {CODE_RESERVE} bytes for code they do not fit {} bytes of flash by {} bytes",
@@ -174,17 +217,42 @@ fn main() {
     let mut s = String::new();
     writeln!(s, "// Generated by build.rs from FIRMWARE_SCENE={spec}.").unwrap();
     for (i, o) in desc.objects.iter().enumerate() {
-        writeln!(s, "static POSITIONS_{i}: [[Coord; 3]; {}] = [", o.mesh.positions.len()).unwrap();
+        writeln!(
+            s,
+            "static POSITIONS_{i}: [[Coord; 3]; {}] = [",
+            o.mesh.positions.len()
+        )
+        .unwrap();
         for p in &o.mesh.positions {
             let b = coord3_bits(*p);
-            writeln!(s, "[Coord::from_bits({}), Coord::from_bits({}), Coord::from_bits({})],", b[0], b[1], b[2]).unwrap();
+            writeln!(
+                s,
+                "[Coord::from_bits({}), Coord::from_bits({}), Coord::from_bits({})],",
+                b[0], b[1], b[2]
+            )
+            .unwrap();
         }
-        writeln!(s, "];\nstatic NORMALS_{i}: [Normal; {}] = [", o.mesh.normals.len()).unwrap();
+        writeln!(
+            s,
+            "];\nstatic NORMALS_{i}: [Normal; {}] = [",
+            o.mesh.normals.len()
+        )
+        .unwrap();
         for n in &o.mesh.normals {
             let b = normal_bits(*n);
-            writeln!(s, "[I2F14::from_bits({}), I2F14::from_bits({}), I2F14::from_bits({})],", b[0], b[1], b[2]).unwrap();
+            writeln!(
+                s,
+                "[I2F14::from_bits({}), I2F14::from_bits({}), I2F14::from_bits({})],",
+                b[0], b[1], b[2]
+            )
+            .unwrap();
         }
-        writeln!(s, "];\nstatic TRIANGLES_{i}: [[u32; 3]; {}] = [", o.mesh.triangles.len()).unwrap();
+        writeln!(
+            s,
+            "];\nstatic TRIANGLES_{i}: [[u32; 3]; {}] = [",
+            o.mesh.triangles.len()
+        )
+        .unwrap();
         for t in &o.mesh.triangles {
             writeln!(s, "[{}, {}, {}],", t[0], t[1], t[2]).unwrap();
         }
@@ -192,11 +260,19 @@ fn main() {
     }
     let c3 = |v: [f32; 3]| {
         let b = coord3_bits(v);
-        format!("[Coord::from_bits({}), Coord::from_bits({}), Coord::from_bits({})]", b[0], b[1], b[2])
+        format!(
+            "[Coord::from_bits({}), Coord::from_bits({}), Coord::from_bits({})]",
+            b[0], b[1], b[2]
+        )
     };
     let c = |v: f32| format!("Coord::from_bits({})", coord_bits(v));
     let has_light = desc.light.is_some();
-    writeln!(s, "/// The scene's objects.\npub static OBJECTS: [SceneObject<'static>; {}] = [", desc.objects.len()).unwrap();
+    writeln!(
+        s,
+        "/// The scene's objects.\npub static OBJECTS: [SceneObject<'static>; {}] = [",
+        desc.objects.len()
+    )
+    .unwrap();
     for (i, o) in desc.objects.iter().enumerate() {
         let shading = match resolve_shading(o.shading, has_light) {
             ShadingDesc::Unlit => "Unlit",
@@ -245,7 +321,9 @@ fn main() {
     )
     .unwrap();
     // Turntable angles: frame i of K at 360 i / K degrees, converted like host-sim's --angle.
-    let angles: Vec<String> = (0..frames).map(|i| coord_bits(360.0 * i as f32 / frames as f32).to_string()).collect();
+    let angles: Vec<String> = (0..frames)
+        .map(|i| coord_bits(360.0 * i as f32 / frames as f32).to_string())
+        .collect();
     writeln!(s, "/// Turntable angle of each frame, Q16.16 degrees.\npub static FRAME_ANGLES: [i32; {frames}] = [{}];", angles.join(", ")).unwrap();
     std::fs::write(out.join("scene_data.rs"), s).expect("write scene_data.rs");
 

@@ -5,9 +5,11 @@
 pub use abuffer_scenes::{builtins, obj, scene_desc, scene_file};
 
 pub mod animate;
+pub mod bench;
 pub mod compare;
 pub mod complexity;
 pub mod convert;
+pub mod fit;
 pub mod heat;
 pub mod image_io;
 pub mod memory;

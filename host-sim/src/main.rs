@@ -33,6 +33,10 @@ enum Command {
     Sweep(host_sim::sweep::SweepArgs),
     /// Gouraud, quadratic and phong side by side, with their errors against phong.
     Shading(host_sim::shading_compare::ShadingArgs),
+    /// Whether buffer parameters fit a board's SRAM (analytic, turntable, or linked).
+    Fit(host_sim::fit::FitArgs),
+    /// Instructions per frame on the Cortex-M4 under QEMU, per scene and method.
+    QemuBench(host_sim::bench::BenchArgs),
 }
 
 #[derive(clap::Args)]
@@ -248,6 +252,9 @@ fn main() -> ExitCode {
             .and_then(|desc| host_sim::sweep::run_sweep_command(args, desc)),
         Command::Shading(args) => load_scene(&args.scene, args.width, args.height)
             .and_then(|desc| host_sim::shading_compare::run_shading(args, desc)),
+        Command::Fit(args) => load_scene(&args.scene, Some(args.width), Some(args.height))
+            .and_then(|desc| host_sim::fit::run_fit(args, desc)),
+        Command::QemuBench(args) => host_sim::bench::run_bench(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

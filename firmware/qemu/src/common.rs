@@ -82,22 +82,43 @@ pub fn ticks() -> u64 {
     }
 }
 
-const ABUF_PIXELS: usize = if matches!(METHOD, Method::ABuffer) { WIDTH * BAND } else { 0 };
-const ZBUF_PIXELS: usize = if matches!(METHOD, Method::ZBuffer) { WIDTH * BAND } else { 0 };
+const ABUF_PIXELS: usize = if matches!(METHOD, Method::ABuffer) {
+    WIDTH * BAND
+} else {
+    0
+};
+const ZBUF_PIXELS: usize = if matches!(METHOD, Method::ZBuffer) {
+    WIDTH * BAND
+} else {
+    0
+};
 
 static mut COUNTS: [u8; ABUF_PIXELS] = [0; ABUF_PIXELS];
-static mut MAIN_SLOTS: [PackedFragment<Mask>; ABUF_PIXELS * MAIN] = [PackedFragment::EMPTY; ABUF_PIXELS * MAIN];
+static mut MAIN_SLOTS: [PackedFragment<Mask>; ABUF_PIXELS * MAIN] =
+    [PackedFragment::EMPTY; ABUF_PIXELS * MAIN];
 static mut ADDRESSES: [u16; ABUF_PIXELS * EXTRA] = [0; ABUF_PIXELS * EXTRA];
 static mut POOL_SLOTS: [PackedFragment<Mask>; POOL] = [PackedFragment::EMPTY; POOL];
 static mut DEPTHS: [u32; ZBUF_PIXELS] = [0; ZBUF_PIXELS];
 static mut COLORS: [Rgb888; ZBUF_PIXELS] = [Rgb888::BLACK; ZBUF_PIXELS];
 
 const EMPTY_OBJECT: ObjectFrame = ObjectFrame {
-    transform: ObjectTransform { clip: ClipTransform { rows: [[0; 3]; 4], offsets: [0; 4] }, normal: [[0; 3]; 3] },
+    transform: ObjectTransform {
+        clip: ClipTransform {
+            rows: [[0; 3]; 4],
+            offsets: [0; 4],
+        },
+        normal: [[0; 3]; 3],
+    },
     vertex_base: 0,
     triangle_base: 0,
 };
-const EMPTY_VERTEX: ScreenVertex = ScreenVertex { x: 0, y: 0, z: 0, color: [0; 3], outcode: 0 };
+const EMPTY_VERTEX: ScreenVertex = ScreenVertex {
+    x: 0,
+    y: 0,
+    z: 0,
+    color: [0; 3],
+    outcode: 0,
+};
 static mut WS_OBJECTS: [ObjectFrame; OBJECTS_LEN] = [EMPTY_OBJECT; OBJECTS_LEN];
 static mut WS_VERTICES: [ScreenVertex; VERTICES] = [EMPTY_VERTEX; VERTICES];
 static mut WS_ROWS: [u16; TRIANGLES] = [0; TRIANGLES];
@@ -147,15 +168,21 @@ pub fn with_buffers<W: WithBuffers>(work: W) {
                     pool: &mut *core::ptr::addr_of_mut!(POOL_SLOTS),
                 }
             };
-            let mut buffer: FragmentBuffer<'_, Mask, u16> = match FragmentBuffer::new(config, storage) {
-                Ok(b) => b,
-                Err(_) => fail("fragment buffer configuration rejected"),
-            };
+            let mut buffer: FragmentBuffer<'_, Mask, u16> =
+                match FragmentBuffer::new(config, storage) {
+                    Ok(b) => b,
+                    Err(_) => fail("fragment buffer configuration rejected"),
+                };
             work.run(&mut buffer, &mut ws);
         }
         Method::ZBuffer => {
             // SAFETY: as above.
-            let (depth, color) = unsafe { (&mut *core::ptr::addr_of_mut!(DEPTHS), &mut *core::ptr::addr_of_mut!(COLORS)) };
+            let (depth, color) = unsafe {
+                (
+                    &mut *core::ptr::addr_of_mut!(DEPTHS),
+                    &mut *core::ptr::addr_of_mut!(COLORS),
+                )
+            };
             let mut buffer = match ZBuffer::new(WIDTH as u16, BAND as u16, depth, color) {
                 Some(b) => b,
                 None => fail("z-buffer configuration rejected"),

@@ -39,7 +39,9 @@ impl HostFile {
         }
         let mode = cortex_m_semihosting::nr::open::W_TRUNC_BINARY;
         // SAFETY: OPEN reads `name.len() - 1` bytes from a valid, NUL-terminated buffer.
-        let fd = unsafe { cortex_m_semihosting::syscall!(OPEN, name.as_ptr(), mode, name.len() - 1) } as isize;
+        let fd =
+            unsafe { cortex_m_semihosting::syscall!(OPEN, name.as_ptr(), mode, name.len() - 1) }
+                as isize;
         (fd >= 0).then_some(Self { fd: fd as usize })
     }
 
@@ -48,7 +50,9 @@ impl HostFile {
         while !bytes.is_empty() {
             // SAFETY: WRITE reads `bytes.len()` bytes from a valid slice; it returns
             // how many were not written.
-            let left = unsafe { cortex_m_semihosting::syscall!(WRITE, self.fd, bytes.as_ptr(), bytes.len()) };
+            let left = unsafe {
+                cortex_m_semihosting::syscall!(WRITE, self.fd, bytes.as_ptr(), bytes.len())
+            };
             if left > bytes.len() {
                 return Err(());
             }
@@ -171,7 +175,13 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
         band_rows: u16,
     ) -> Result<(), mcu_abuffer::setup::Rejection> {
         let t0 = ticks();
-        let setup = mcu_abuffer::setup::TriangleSetup::new(vertices, params.cull_backfaces, params.colors, params.width, params.height);
+        let setup = mcu_abuffer::setup::TriangleSetup::new(
+            vertices,
+            params.cull_backfaces,
+            params.colors,
+            params.width,
+            params.height,
+        );
         let t1 = ticks();
         self.ticks.setup += t1 - t0;
         let setup = setup?;
@@ -204,7 +214,11 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
     }
 }
 
-fn run_frames<M: CoverageMask, B: BandBuffer<M>>(buffer: &mut B, ws: &mut FrameWorkspace<'_>, stats_file: &mut HostFile) {
+fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
+    buffer: &mut B,
+    ws: &mut FrameWorkspace<'_>,
+    stats_file: &mut HostFile,
+) {
     let mut header_buf = [0u8; 20];
     for (i, &angle) in scene::FRAME_ANGLES.iter().enumerate() {
         let mut file = frame_file(i);
@@ -218,13 +232,33 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(buffer: &mut B, ws: &mut FrameW
             let _ = f.write_all(decimal(HEIGHT as u64, &mut header_buf));
             let _ = f.write_all(b"\n255\n");
         }
-        let mut sink = SemihostingFrameSink { file, bytes: [0; WIDTH * 3], checksum: 0x811C_9DC5, ticks: 0 };
-        let options = FrameOptions { turntable_deg: Coord::from_bits(angle) };
+        let mut sink = SemihostingFrameSink {
+            file,
+            bytes: [0; WIDTH * 3],
+            checksum: 0x811C_9DC5,
+            ticks: 0,
+        };
+        let options = FrameOptions {
+            turntable_deg: Coord::from_bits(angle),
+        };
         let start = ticks();
-        let mut profile = StageTicks { frame_start: start, ..StageTicks::default() };
+        let mut profile = StageTicks {
+            frame_start: start,
+            ..StageTicks::default()
+        };
         let result = if cfg!(feature = "profile") {
-            let mut profiled = ProfiledBuffer { inner: buffer, ticks: profile };
-            let r = render_frame(&scene::SCENE, &options, ws, &mut profiled, &mut sink, |_, _, _| {});
+            let mut profiled = ProfiledBuffer {
+                inner: buffer,
+                ticks: profile,
+            };
+            let r = render_frame(
+                &scene::SCENE,
+                &options,
+                ws,
+                &mut profiled,
+                &mut sink,
+                |_, _, _| {},
+            );
             profile = profiled.ticks;
             r
         } else {
@@ -235,7 +269,8 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(buffer: &mut B, ws: &mut FrameW
             let k = INSTRUCTIONS_PER_TICK;
             let p = &profile;
             let geometry = p.first_band.saturating_sub(p.frame_start);
-            let other = total.saturating_sub(geometry + p.setup + p.raster + p.insert + p.resolve + sink.ticks);
+            let other = total
+                .saturating_sub(geometry + p.setup + p.raster + p.insert + p.resolve + sink.ticks);
             defmt::info!(
                 "profile frame {=usize} (instructions): transform+binning {=u64}, setup {=u64}, raster {=u64}, insert {=u64}, resolve {=u64}, output {=u64}, band loop {=u64}",
                 i,
@@ -320,11 +355,17 @@ fn main() -> ! {
         stats_file: &'f mut HostFile,
     }
     impl WithBuffers for Frames<'_> {
-        fn run<M: CoverageMask, B: BandBuffer<M>>(self, buffer: &mut B, ws: &mut FrameWorkspace<'_>) {
+        fn run<M: CoverageMask, B: BandBuffer<M>>(
+            self,
+            buffer: &mut B,
+            ws: &mut FrameWorkspace<'_>,
+        ) {
             run_frames(buffer, ws, self.stats_file);
         }
     }
-    with_buffers(Frames { stats_file: &mut stats_file });
+    with_buffers(Frames {
+        stats_file: &mut stats_file,
+    });
     debug::exit(debug::EXIT_SUCCESS);
     #[allow(clippy::empty_loop)]
     loop {}

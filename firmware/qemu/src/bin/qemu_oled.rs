@@ -121,7 +121,14 @@ impl LineSink for OledSink {
             *byte = (left << 4) | right;
         }
         let last_column = (WIDTH / 2 - 1) as u8;
-        self.oled.command(&[CMD_SET_COLUMNS, 0, last_column, CMD_SET_ROWS, y as u8, y as u8]);
+        self.oled.command(&[
+            CMD_SET_COLUMNS,
+            0,
+            last_column,
+            CMD_SET_ROWS,
+            y as u8,
+            y as u8,
+        ]);
         self.oled.data(&self.bytes);
         Ok(())
     }
@@ -132,7 +139,11 @@ struct Frame {
 }
 
 impl WithBuffers for Frame {
-    fn run<M: CoverageMask, B: BandBuffer<M>>(mut self, buffer: &mut B, ws: &mut FrameWorkspace<'_>) {
+    fn run<M: CoverageMask, B: BandBuffer<M>>(
+        mut self,
+        buffer: &mut B,
+        ws: &mut FrameWorkspace<'_>,
+    ) {
         let options = FrameOptions::default();
         let start = ticks();
         match render_frame(&scene::SCENE, &options, ws, buffer, &mut self.sink, |_, _, _| {}) {
@@ -150,14 +161,22 @@ impl WithBuffers for Frame {
 
 #[entry]
 fn main() -> ! {
-    const _: () = assert!(WIDTH == 128 && HEIGHT <= 80, "the SSD0323 shows 128 columns and up to 80 rows");
+    const _: () = assert!(
+        WIDTH == 128 && HEIGHT <= 80,
+        "the SSD0323 shows 128 columns and up to 80 rows"
+    );
     let mut core = match cortex_m::Peripherals::take() {
         Some(p) => p,
         None => fail("peripherals taken twice"),
     };
     start_tick_counter(&mut core.SYST);
     let oled = Oled::init();
-    with_buffers(Frame { sink: OledSink { oled, bytes: [0; WIDTH / 2] } });
+    with_buffers(Frame {
+        sink: OledSink {
+            oled,
+            bytes: [0; WIDTH / 2],
+        },
+    });
     if let Ok(mut out) = hio::hstdout() {
         let _ = out.write_all(b"frame done\n");
     }

@@ -1,0 +1,88 @@
+//! `host-sim qemu-bench`: instructions per frame on the Cortex-M4 (QEMU
+//! `mps2-an386`, `-icount shift=0`) for each method, from the firmware's own
+//! SysTick counts.
+
+use crate::qemu::{build_m4, decode_defmt, run_m4, FirmwareConfig};
+use std::fmt::Write as _;
+use std::time::Duration;
+
+/// Arguments of `host-sim qemu-bench`.
+#[derive(clap::Args, Debug)]
+pub struct BenchArgs {
+    /// Built-in scenes or scene files (comma-separated).
+    #[arg(long, default_value = "teapot,spheres,starfighter", value_delimiter = ',')]
+    pub scene: Vec<String>,
+    /// Turntable frames per run.
+    #[arg(long, default_value_t = 8)]
+    pub frames: u32,
+    /// Methods (comma-separated): zbuffer, shared, fixed-discard, fixed-merge, merge-closest, unlimited.
+    #[arg(long, default_value = "zbuffer,shared,fixed-discard,unlimited", value_delimiter = ',')]
+    pub methods: Vec<String>,
+    /// Also print the per-stage profile of each run (a separate, instrumented build).
+    #[arg(long)]
+    pub profile: bool,
+    /// Write the table as Markdown to this file too.
+    #[arg(long)]
+    pub markdown: Option<std::path::PathBuf>,
+}
+
+fn median(mut v: Vec<u64>) -> u64 {
+    v.sort_unstable();
+    v.get(v.len() / 2).copied().unwrap_or(0)
+}
+
+/// Runs the benchmark and prints a table.
+pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
+    let dir = std::env::temp_dir().join(format!("abuffer-bench-{}", std::process::id()));
+    let mut table = String::new();
+    writeln!(table, "| scene | method | median instructions/frame | min | max | of which output | fragments | merges | pool peak |").unwrap();
+    writeln!(table, "|---|---|---|---|---|---|---|---|---|").unwrap();
+    for scene in &args.scene {
+        for method in &args.methods {
+            let config = FirmwareConfig { scene: scene.clone(), frames: args.frames, method: method.clone(), ..FirmwareConfig::default() };
+            let work = dir.join(format!("{}-{method}", scene.replace(['/', ':', '.'], "_")));
+            std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
+            let elf = work.join("firmware.elf");
+            if let Err(e) = build_m4(&config, &[], &elf) {
+                let reason = e.lines().find(|l| l.contains("does not fit")).unwrap_or("build failed").trim();
+                writeln!(table, "| {scene} | {method} | does not fit | | | | | | |").unwrap();
+                eprintln!("{scene} {method}: {reason}");
+                continue;
+            }
+            let run = run_m4(&elf, &work, Duration::from_secs(600))?;
+            let instr: Vec<u64> = run.stats.iter().map(|s| s.instructions).collect();
+            let out: Vec<u64> = run.stats.iter().map(|s| s.output_instructions).collect();
+            let frags: Vec<u64> = run.stats.iter().map(|s| s.generated).collect();
+            let merges: Vec<u64> = run.stats.iter().map(|s| s.merges).collect();
+            let peak = run.stats.iter().map(|s| s.pool_peak).max().unwrap_or(0);
+            writeln!(
+                table,
+                "| {scene} | {method} | {:.2} M | {:.2} M | {:.2} M | {:.2} M | {} | {} | {peak} |",
+                median(instr.clone()) as f64 / 1e6,
+                instr.iter().min().copied().unwrap_or(0) as f64 / 1e6,
+                instr.iter().max().copied().unwrap_or(0) as f64 / 1e6,
+                median(out) as f64 / 1e6,
+                median(frags),
+                median(merges),
+            )
+            .unwrap();
+            if args.profile {
+                let pelf = work.join("firmware-profile.elf");
+                build_m4(&config, &["profile"], &pelf)?;
+                let prun = run_m4(&pelf, &work.join("profile"), Duration::from_secs(600))?;
+                if let Some(text) = decode_defmt(&pelf, &prun.defmt) {
+                    for line in text.lines().filter(|l| l.contains("profile frame")) {
+                        eprintln!("{scene} {method}: {}", line.trim());
+                    }
+                } else {
+                    eprintln!("(install defmt-print to see the profile: cargo install defmt-print)");
+                }
+            }
+        }
+    }
+    print!("{table}");
+    if let Some(path) = &args.markdown {
+        std::fs::write(path, &table).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,284 @@
+//! `host-sim fit`: does a buffer configuration fit a board's SRAM?
+//!
+//! Three answers, from cheapest to most certain:
+//! - analytic: the real packed sizes of the library's types and SPEC section 5's
+//!   formulas, for the shared and the fixed allocation, with the frame workspace the
+//!   scene needs, line buffers and a stack reserve;
+//! - `--frames N`: renders the scene's turntable on the host and reports the worst
+//!   pool peak, and so the smallest pool that never merges;
+//! - `--link`: builds the QEMU M4 firmware with these parameters and reads the
+//!   linker's answer from the ELF.
+
+use crate::convert::to_fixed;
+use crate::qemu::{build_m4, repo_root, FirmwareConfig};
+use crate::render::{render, Grid, Method, RenderConfig};
+use crate::scene_desc::SceneDesc;
+use embedded_graphics_core::pixelcolor::Rgb888;
+use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x4, Mask8x8};
+use mcu_abuffer::fragment::PackedFragment;
+use mcu_abuffer::renderer::{ObjectFrame, ScreenVertex};
+use std::path::Path;
+
+/// Bytes of one pool address on a device (`u16`).
+pub const ADDRESS_BYTES: usize = 2;
+
+/// Arguments of `host-sim fit`.
+#[derive(clap::Args, Debug)]
+pub struct FitArgs {
+    /// Scene whose frame workspace counts too (built-in or scene file).
+    #[arg(long, default_value = "teapot")]
+    pub scene: String,
+    /// Image width.
+    #[arg(long, default_value_t = 240)]
+    pub width: u32,
+    /// Image height.
+    #[arg(long, default_value_t = 240)]
+    pub height: u32,
+    /// Band height R.
+    #[arg(long, default_value_t = 8)]
+    pub band: u16,
+    /// Coverage grid.
+    #[arg(long, value_enum, default_value_t = Grid::G4x4)]
+    pub grid: Grid,
+    /// N_main.
+    #[arg(long, default_value_t = 1)]
+    pub main: u8,
+    /// N_extra.
+    #[arg(long, default_value_t = 2)]
+    pub extra: u8,
+    /// N_pool.
+    #[arg(long, default_value_t = 512)]
+    pub pool: usize,
+    /// N_fixed of the fixed allocation compared against (default N_main + N_extra).
+    #[arg(long)]
+    pub fixed: Option<u8>,
+    /// SRAM of the board, in bytes or with a K suffix (KiB).
+    #[arg(long, default_value = "128K", value_parser = parse_bytes)]
+    pub ram: usize,
+    /// Bytes kept free for the stack.
+    #[arg(long, default_value_t = 8192)]
+    pub stack: usize,
+    /// Also run a turntable of this many frames on the host: worst pool peak.
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Also build the M4 firmware with these parameters and read its ELF.
+    #[arg(long)]
+    pub link: bool,
+}
+
+/// Parses `131072`, `128K` or `128k` (KiB).
+pub fn parse_bytes(s: &str) -> Result<usize, String> {
+    let t = s.trim();
+    let (num, mult) = match t.strip_suffix(['K', 'k']) {
+        Some(n) => (n, 1024),
+        None => (t, 1),
+    };
+    num.trim().parse::<usize>().map(|n| n * mult).map_err(|_| format!("'{s}' is not a byte count (like 131072 or 128K)"))
+}
+
+/// The byte budget of one configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MemoryBudget {
+    /// Per-pixel fragment counts, `W R` bytes.
+    pub counts: usize,
+    /// Main fragment slots, `W R N_main M_frag`.
+    pub main_slots: usize,
+    /// Pool addresses, `W R N_extra M_addr`.
+    pub addresses: usize,
+    /// Shared pool, `N_pool M_frag`.
+    pub pool: usize,
+    /// Line buffers: the resolved line and the sink's byte line.
+    pub lines: usize,
+    /// Frame workspace: transformed vertices, triangle order, row counts, objects.
+    pub workspace: usize,
+    /// Stack reserve.
+    pub stack: usize,
+}
+
+impl MemoryBudget {
+    /// Everything.
+    pub fn total(&self) -> usize {
+        self.counts + self.main_slots + self.addresses + self.pool + self.lines + self.workspace + self.stack
+    }
+}
+
+fn fragment_bytes(grid: Grid) -> usize {
+    fn size<M: CoverageMask>() -> usize {
+        PackedFragment::<M>::SIZE
+    }
+    match grid {
+        Grid::G4x4 => size::<Mask4x4>(),
+        Grid::G8x4 => size::<Mask8x4>(),
+        Grid::G8x8 => size::<Mask8x8>(),
+    }
+}
+
+/// The frame workspace a scene needs on a device (see `mcu_abuffer::renderer::FrameWorkspace`).
+pub fn workspace_bytes(desc: &SceneDesc) -> usize {
+    let vertices: usize = desc.objects.iter().map(|o| o.mesh.positions.len()).sum();
+    let triangles: usize = desc.objects.iter().map(|o| o.mesh.triangles.len()).sum();
+    desc.objects.len() * std::mem::size_of::<ObjectFrame>()
+        + vertices * std::mem::size_of::<ScreenVertex>()
+        + triangles * (2 + 4)
+        + (desc.height as usize + 1) * 4
+}
+
+/// The analytic budget of `args` for `desc`, with `main`/`extra`/`pool` slots.
+pub fn budget(args: &FitArgs, desc: &SceneDesc, main: usize, extra: usize, pool: usize) -> MemoryBudget {
+    let pixels = args.width as usize * args.band as usize;
+    let frag = fragment_bytes(args.grid);
+    MemoryBudget {
+        counts: pixels,
+        main_slots: pixels * main * frag,
+        addresses: pixels * extra * ADDRESS_BYTES,
+        pool: pool * frag,
+        lines: args.width as usize * (std::mem::size_of::<Rgb888>() + 3),
+        workspace: workspace_bytes(desc),
+        stack: args.stack,
+    }
+}
+
+fn verdict(total: usize, ram: usize) -> String {
+    if total <= ram {
+        format!("fits ({} bytes free)", ram - total)
+    } else {
+        format!("does not fit by {} bytes", total - ram)
+    }
+}
+
+fn print_budget(name: &str, b: &MemoryBudget, ram: usize) {
+    println!("{name}");
+    println!("  counts            {:>8}", b.counts);
+    println!("  main slots        {:>8}", b.main_slots);
+    println!("  pool addresses    {:>8}", b.addresses);
+    println!("  shared pool       {:>8}", b.pool);
+    println!("  line buffers      {:>8}", b.lines);
+    println!("  frame workspace   {:>8}", b.workspace);
+    println!("  stack reserve     {:>8}", b.stack);
+    println!("  total             {:>8} of {ram}: {}", b.total(), verdict(b.total(), ram));
+}
+
+/// Runs `host-sim fit`.
+pub fn run_fit(args: &FitArgs, mut desc: SceneDesc) -> Result<(), String> {
+    desc.width = args.width;
+    desc.height = args.height;
+    if args.main == 0 {
+        return Err("--main must be at least 1".into());
+    }
+    if args.band == 0 || args.band as u32 > args.height {
+        return Err(format!("--band must be 1..={}", args.height));
+    }
+    let frag = fragment_bytes(args.grid);
+    let fixed = args.fixed.map(usize::from).unwrap_or(args.main as usize + args.extra as usize);
+    let shared = budget(args, &desc, args.main as usize, args.extra as usize, args.pool);
+    let fixed_budget = budget(args, &desc, fixed, 0, 0);
+    let pixels = args.width as usize * args.band as usize;
+    let m_shared = pixels * (args.main as usize * frag + args.extra as usize * ADDRESS_BYTES) + args.pool * frag;
+    let m_fixed = pixels * fixed * frag;
+    println!(
+        "{}x{}, band {}, grid {:?} ({frag}-byte fragments, {ADDRESS_BYTES}-byte addresses), scene {}",
+        args.width, args.height, args.band, args.grid, args.scene
+    );
+    println!("M_shared = W R (N_main M_frag + N_extra M_addr) + N_pool M_frag = {m_shared} bytes (N_main {}, N_extra {}, N_pool {})", args.main, args.extra, args.pool);
+    println!("M_fixed  = W R N_fixed M_frag = {m_fixed} bytes (N_fixed {fixed})");
+    println!("M_fixed / M_shared = {:.3}", m_fixed as f64 / m_shared.max(1) as f64);
+    print_budget("shared allocation", &shared, args.ram);
+    print_budget("fixed allocation", &fixed_budget, args.ram);
+    println!("verdict: {}", verdict(shared.total(), args.ram));
+
+    if let Some(frames) = args.frames {
+        let scene = to_fixed(&desc)?;
+        // A pool too large to run out shows the demand: the worst peak.
+        let unbounded = pixels * args.extra as usize;
+        let config = RenderConfig {
+            method: Method::Shared,
+            grid: args.grid,
+            main: args.main,
+            extra: args.extra,
+            pool: Some(unbounded),
+            band: args.band,
+            ..RenderConfig::default()
+        };
+        let mut worst = 0u32;
+        for i in 0..frames.max(1) {
+            let angle = 360.0 * i as f32 / frames.max(1) as f32;
+            let out = render(&scene, &config, angle)?;
+            worst = worst.max(out.stats.buffer.pool_peak);
+        }
+        println!("turntable of {frames} frames: worst pool peak {worst}; the smallest N_pool that never merges for want of pool slots is {worst}");
+    }
+
+    if args.link {
+        let config = FirmwareConfig {
+            scene: args.scene.clone(),
+            frames: 1,
+            method: "shared".into(),
+            grid: match args.grid {
+                Grid::G4x4 => "4x4",
+                Grid::G8x4 => "8x4",
+                Grid::G8x8 => "8x8",
+            }
+            .into(),
+            band: args.band,
+            main: args.main,
+            extra: args.extra,
+            pool: args.pool,
+            fixed: fixed as u8,
+        };
+        if args.width != 240 || args.height != 240 || args.ram != 128 * 1024 {
+            println!("note: --link builds the default board (240x240 in 128 KiB); width, height and ram here do not change it");
+        }
+        let dir = std::env::temp_dir().join(format!("abuffer-fit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+        let elf = dir.join("firmware.elf");
+        match build_m4(&config, &[], &elf) {
+            Ok(()) => print_link_report(&elf)?,
+            Err(e) => println!("linker: the firmware build refused these parameters:\n{e}"),
+        }
+    }
+    Ok(())
+}
+
+/// What the linker placed in RAM, read from an ELF.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LinkReport {
+    /// `.data` bytes.
+    pub data: u64,
+    /// `.bss` bytes.
+    pub bss: u64,
+    /// `.uninit` bytes.
+    pub uninit: u64,
+    /// RAM from the memory layout (`_stack_start` minus the RAM origin).
+    pub ram: u64,
+    /// Stack: `_stack_start - _stack_end`.
+    pub stack: u64,
+}
+
+/// Reads a cortex-m-rt ELF's RAM use.
+pub fn read_link_report(elf: &Path) -> Result<LinkReport, String> {
+    use object::{Object, ObjectSection, ObjectSymbol};
+    let bytes = std::fs::read(elf).map_err(|e| format!("{}: {e}", elf.display()))?;
+    let file = object::File::parse(&*bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
+    let section = |name: &str| file.section_by_name(name).map(|s| s.size()).unwrap_or(0);
+    let symbol = |name: &str| file.symbols().find(|s| s.name() == Ok(name)).map(|s| s.address());
+    let stack_start = symbol("_stack_start").ok_or("no _stack_start symbol (not a cortex-m-rt ELF?)")?;
+    let stack_end = symbol("_stack_end").ok_or("no _stack_end symbol")?;
+    let ram_origin = 0x2000_0000u64;
+    Ok(LinkReport {
+        data: section(".data"),
+        bss: section(".bss"),
+        uninit: section(".uninit"),
+        ram: stack_start.saturating_sub(ram_origin),
+        stack: stack_start.saturating_sub(stack_end),
+    })
+}
+
+fn print_link_report(elf: &Path) -> Result<(), String> {
+    let r = read_link_report(elf)?;
+    let statics = r.data + r.bss + r.uninit;
+    println!("linker ({}):", elf.display());
+    println!("  .data {} + .bss {} + .uninit {} = {statics} bytes of {} RAM", r.data, r.bss, r.uninit, r.ram);
+    println!("  stack (_stack_start - _stack_end): {} bytes", r.stack);
+    let _ = repo_root();
+    Ok(())
+}
