@@ -129,6 +129,13 @@ impl<M: CoverageMask> PackedFragment<M> {
         self.mask = mask;
     }
 
+    /// The color channels, without unpacking the depth fields.
+    #[inline]
+    pub fn rgb(&self) -> [u8; 3] {
+        let (zr, xg, yb) = (self.z_red, self.dzdx_green, self.dzdy_blue);
+        [(zr >> 24) as u8, (xg >> 24) as u8, (yb >> 24) as u8]
+    }
+
     /// Depth at the pixel center.
     #[inline]
     pub fn z(&self) -> u32 {

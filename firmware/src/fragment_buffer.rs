@@ -438,13 +438,21 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
         self.stats.fragments_generated += 1;
         let p = self.pixel_index(x, row);
-        let mut f = *fragment;
         let mut n = self.counts[p] as usize;
+        if n == 0 {
+            // The first fragment of a pixel goes to its first main slot.
+            self.main[p * self.config.main_slots as usize] = PackedFragment::pack(fragment);
+            self.counts[p] = 1;
+            self.stats.fragments_stored += 1;
+            self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(1);
+            return;
+        }
+        let mut f = *fragment;
         // Settle every shared sample with each stored fragment (their masks are disjoint,
         // so the order of comparison does not matter).
         let mut emptied = false;
         for i in 0..n {
-            let stored = self.read(p, i);
+            let stored = self.slot_ref(p, i);
             let overlap = stored.mask() & f.mask;
             if overlap.is_empty() {
                 continue;
@@ -499,13 +507,21 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
                 *px = background;
                 continue;
             }
+            let first = self.slot_ref(p, 0);
+            if n == 1 && first.mask() == M::FULL {
+                // An interior pixel: one fragment covers every sample.
+                let [r, g, b] = first.rgb();
+                *px = Rgb888::new(r, g, b);
+                continue;
+            }
             let (mut r, mut g, mut b, mut covered) = (0u32, 0u32, 0u32, 0u32);
             for i in 0..n {
-                let f = self.slot_ref(p, i).unpack();
-                let k = f.mask.count();
-                r += f.color.r() as u32 * k;
-                g += f.color.g() as u32 * k;
-                b += f.color.b() as u32 * k;
+                let f = self.slot_ref(p, i);
+                let k = f.mask().count();
+                let [fr, fg, fb] = f.rgb();
+                r += fr as u32 * k;
+                g += fg as u32 * k;
+                b += fb as u32 * k;
                 covered += k;
             }
             let rest = M::SAMPLES - covered.min(M::SAMPLES);

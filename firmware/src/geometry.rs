@@ -20,7 +20,13 @@ type AffineQ32 = [[i128; 4]; 3];
 const Q32: i128 = 1 << 32;
 
 /// Normalizes a Q16 vector to Q30; `None` for the zero vector.
+///
+/// Components may reach 2^32 in magnitude (differences of two Q16.16 points), so
+/// a vector is first shifted right until every component is below 2^31: the
+/// three squares then sum below 2^64, and the direction is unchanged.
 fn normalize_q16(v: [i64; 3]) -> Option<Vec3Q30> {
+    let largest = v.iter().fold(0u64, |m, c| m | c.unsigned_abs());
+    let v = v.map(|c| c >> (64 - largest.leading_zeros()).saturating_sub(31));
     let len2: u64 = v.iter().map(|c| (c * c) as u64).sum();
     let len = isqrt_u64(len2) as i64; // Q16
     if len == 0 {

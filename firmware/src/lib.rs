@@ -16,7 +16,8 @@
 //! [`lighting`], [`setup`] (edge functions, depth and color planes), [`shading`]
 //! (quadratic and Phong shading, color walkers), [`raster`]
 //! ([`coverage`] masks), [`fragment_buffer`] ([`visibility`], [`merge`], [`pool`])
-//! or [`zbuffer`], resolve, [`sink`]. [`renderer::render_frame`] drives it.
+//! or [`zbuffer`] ([`zbuffer_hiz`], [`zbuffer_midpoint`]), resolve, [`sink`].
+//! [`renderer::render_frame`] drives it.
 #![cfg_attr(not(test), no_std)]
 #![warn(missing_docs)]
 // Matrix and per-channel arithmetic reads best with explicit indices.
@@ -41,6 +42,8 @@ pub mod sink;
 pub mod stats;
 pub mod visibility;
 pub mod zbuffer;
+pub mod zbuffer_hiz;
+pub mod zbuffer_midpoint;
 
 pub use band_buffer::BandBuffer;
 pub use coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
@@ -51,3 +54,5 @@ pub use scene::{Camera, Light, Mesh, Scene, SceneObject, Shading, Transform};
 pub use sink::{DrawTargetSink, ImageSink, LineSink};
 pub use stats::FrameStats;
 pub use zbuffer::ZBuffer;
+pub use zbuffer_hiz::HierarchicalZBuffer;
+pub use zbuffer_midpoint::{MidpointConfig, MidpointZBuffer};

@@ -74,8 +74,10 @@ impl LightSetup {
             to_light[2] as i64 + UNIT_ONE as i64,
         ])
         .unwrap_or([0, 0, UNIT_ONE]);
+        // Coefficients below 8, so products with a dot product of at most 1 (Q2.14)
+        // stay below 2^31.
         let q14 =
-            |c: fixed::types::I16F16| (c.to_bits() >> (16 - UNIT_BITS)).clamp(0, 8 * UNIT_ONE);
+            |c: fixed::types::I16F16| (c.to_bits() >> (16 - UNIT_BITS)).clamp(0, 8 * UNIT_ONE - 1);
         Self {
             to_light,
             half,
@@ -88,7 +90,8 @@ impl LightSetup {
 
     /// The lit color of a surface with eye-space unit normal `n` (Q2.14) and color `base`.
     pub fn shade(&self, n: &[i32; 3], base: Rgb888) -> ColorQ8 {
-        let ndl = dot(n, &self.to_light).max(0);
+        // Unit vectors rounded to Q2.14 may give a dot product a step above 1.
+        let ndl = dot(n, &self.to_light).clamp(0, UNIT_ONE);
         let diffuse = self.ambient + ((self.diffuse * ndl) >> UNIT_BITS);
         let spec = if ndl > 0 {
             let ndh = dot(n, &self.half).clamp(0, UNIT_ONE);

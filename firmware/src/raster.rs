@@ -20,29 +20,85 @@ use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, PhongWalk, QuadraticWa
 #[inline]
 pub fn edge_mask<M: CoverageMask>(e: i64, edge: &Edge) -> M {
     // Near an edge |e| is below the margin (< 2^22), so 32 bits suffice.
-    let a = edge.a as i32;
-    let b = edge.b as i32;
-    let mut row_value = e as i32 + a * M::offset_x(0) + b * M::offset_y(0);
+    edge_mask_near::<M>(e as i32, edge.a as i32, edge.b as i32)
+}
+
+/// [`edge_mask`] for an edge value `e` within the pixel's margin, with the edge's
+/// steps `a` (x) and `b` (y) per 1/16 pixel.
+#[inline]
+fn edge_mask_near<M: CoverageMask>(e: i32, a: i32, b: i32) -> M {
+    let mut row_value = e + a * M::offset_x(0) + b * M::offset_y(0);
     let step_x = a * (16 / M::COLS as i32);
     let step_y = b * (16 / M::ROWS as i32);
-    let mut bits = 0u64;
-    let mut bit = 0;
-    for _ in 0..M::ROWS {
-        let mut value = row_value;
-        for _ in 0..M::COLS {
-            bits |= ((value >= 0) as u64) << bit;
-            bit += 1;
-            value += step_x;
+    if M::SAMPLES <= 32 {
+        // One 32-bit word: the common grids (4x4, 8x4) on 32-bit cores.
+        let mut bits = 0u32;
+        let mut bit = 0;
+        for _ in 0..M::ROWS {
+            let mut value = row_value;
+            for _ in 0..M::COLS {
+                bits |= ((value >= 0) as u32) << bit;
+                bit += 1;
+                value += step_x;
+            }
+            row_value += step_y;
         }
-        row_value += step_y;
+        M::from_u64(bits as u64)
+    } else {
+        let mut bits = 0u64;
+        let mut bit = 0;
+        for _ in 0..M::ROWS {
+            let mut value = row_value;
+            for _ in 0..M::COLS {
+                bits |= ((value >= 0) as u64) << bit;
+                bit += 1;
+                value += step_x;
+            }
+            row_value += step_y;
+        }
+        M::from_u64(bits)
     }
-    M::from_u64(bits)
+}
+
+/// An integer type edge functions are stepped in: `i32` when a triangle's edge
+/// values fit (nearly always), `i64` otherwise.
+trait EdgeValue:
+    Copy + PartialOrd + core::ops::Add<Output = Self> + core::ops::Neg<Output = Self>
+{
+    fn from_i64(v: i64) -> Self;
+    fn near(self) -> i32;
+}
+
+impl EdgeValue for i32 {
+    #[inline]
+    fn from_i64(v: i64) -> Self {
+        v as i32
+    }
+    #[inline]
+    fn near(self) -> i32 {
+        self
+    }
+}
+
+impl EdgeValue for i64 {
+    #[inline]
+    fn from_i64(v: i64) -> Self {
+        v
+    }
+    #[inline]
+    fn near(self) -> i32 {
+        self as i32
+    }
 }
 
 /// Coverage of the pixel whose center has edge values `e`, given each edge's
 /// margin (the largest change of that edge from the center to a sample).
 #[inline]
-pub fn pixel_coverage<M: CoverageMask>(e: &[i64; 3], edges: &[Edge; 3], margin: &[i64; 3]) -> M {
+fn pixel_coverage<M: CoverageMask, E: EdgeValue>(
+    e: &[E; 3],
+    edges: &[Edge; 3],
+    margin: &[E; 3],
+) -> M {
     let mut mask = M::FULL;
     for i in 0..3 {
         if e[i] >= margin[i] {
@@ -51,9 +107,21 @@ pub fn pixel_coverage<M: CoverageMask>(e: &[i64; 3], edges: &[Edge; 3], margin: 
         if e[i] < -margin[i] {
             return M::EMPTY;
         }
-        mask = mask & edge_mask::<M>(e[i], &edges[i]);
+        mask = mask & edge_mask_near::<M>(e[i].near(), edges[i].a as i32, edges[i].b as i32);
     }
     mask
+}
+
+/// Whether every edge value over the rows `y_first..=y_last` of the bounding box
+/// (and one step beyond) stays within `±2^30`, so the pixel loop can run in `i32`.
+fn edges_fit_i32(setup: &TriangleSetup, y_first: u16, y_last: u16) -> bool {
+    let columns = (setup.x1 - setup.x0) as i64 + 1;
+    let rows = (y_last - setup.y0) as i64 + 1;
+    let _ = y_first;
+    setup.edges.iter().all(|e| {
+        let bound = e.origin.abs() + (e.a.abs() << 4) * columns + (e.b.abs() << 4) * rows;
+        bound < 1 << 30
+    })
 }
 
 /// Rasterizes the rows of `setup` that fall in the band starting at image row
@@ -76,16 +144,33 @@ pub fn rasterize<M: CoverageMask, B: BandBuffer<M>>(
     // One loop per kind of color, so the per-pixel work has no branch on it.
     let first_row = (y_first - setup.y0) as i64;
     let rows = (y_first, y_last, band_y0);
+    if edges_fit_i32(setup, y_first, y_last) {
+        rasterize_with::<M, B, i32>(setup, rows, first_row, buffer)
+    } else {
+        rasterize_with::<M, B, i64>(setup, rows, first_row, buffer)
+    }
+}
+
+/// Picks the color walk of `setup` and rasterizes with edges in `E`.
+#[inline]
+fn rasterize_with<M: CoverageMask, B: BandBuffer<M>, E: EdgeValue>(
+    setup: &TriangleSetup,
+    rows: (u16, u16, u16),
+    first_row: i64,
+    buffer: &mut B,
+) {
     match &setup.colors {
-        ColorPlanes::Constant(c) => rasterize_rows(setup, rows, ConstantWalk(*c), buffer),
+        ColorPlanes::Constant(c) => {
+            rasterize_rows::<M, B, ConstantWalk, E>(setup, rows, ConstantWalk(*c), buffer)
+        }
         ColorPlanes::Linear(p) => {
-            rasterize_rows(setup, rows, LinearWalk::start(p, first_row), buffer)
+            rasterize_rows::<M, B, _, E>(setup, rows, LinearWalk::start(p, first_row), buffer)
         }
         ColorPlanes::Quadratic(p) => {
-            rasterize_rows(setup, rows, QuadraticWalk::start(p, first_row), buffer)
+            rasterize_rows::<M, B, _, E>(setup, rows, QuadraticWalk::start(p, first_row), buffer)
         }
         ColorPlanes::Phong(p) => {
-            rasterize_rows(setup, rows, PhongWalk::start(p, first_row), buffer)
+            rasterize_rows::<M, B, _, E>(setup, rows, PhongWalk::start(p, first_row), buffer)
         }
     }
 }
@@ -94,30 +179,30 @@ pub fn rasterize<M: CoverageMask, B: BandBuffer<M>>(
 /// at image row `rows.2`, colors from `colors` (positioned at row `rows.0`).
 // Kept out of line: one copy per kind of color, each with its own registers.
 #[inline(never)]
-fn rasterize_rows<M: CoverageMask, B: BandBuffer<M>, W: ColorWalk>(
+fn rasterize_rows<M: CoverageMask, B: BandBuffer<M>, W: ColorWalk, E: EdgeValue>(
     setup: &TriangleSetup,
     rows: (u16, u16, u16),
     mut colors: W,
     buffer: &mut B,
 ) {
     let (y_first, y_last, band_y0) = rows;
-    let margin = setup
-        .edges
-        .map(|e| e.a.abs() * M::max_offset_x() as i64 + e.b.abs() * M::max_offset_y() as i64);
-    let step_x = setup.edges.map(|e| e.a << 4);
+    let margin: [E; 3] = setup.edges.map(|e| {
+        E::from_i64(e.a.abs() * M::max_offset_x() as i64 + e.b.abs() * M::max_offset_y() as i64)
+    });
+    let step_x: [E; 3] = setup.edges.map(|e| E::from_i64(e.a << 4));
     let step_y = setup.edges.map(|e| e.b << 4);
     // Half-open ranges: inclusive ones cost an extra test per step.
     for y in y_first..y_last + 1 {
         let dy = (y - setup.y0) as i64;
-        let mut e = [0i64; 3];
+        let mut e: [E; 3] = [E::from_i64(0); 3];
         for i in 0..3 {
-            e[i] = setup.edges[i].origin + dy * step_y[i];
+            e[i] = E::from_i64(setup.edges[i].origin + dy * step_y[i]);
         }
         let mut z = setup.depth.origin + dy * setup.depth.dy;
         let mut pixel_colors = colors.row();
         let row = y - band_y0;
         for x in setup.x0..setup.x1 + 1 {
-            let mask = pixel_coverage::<M>(&e, &setup.edges, &margin);
+            let mask = pixel_coverage::<M, E>(&e, &setup.edges, &margin);
             if !mask.is_empty() {
                 let color = colors.color(&pixel_colors);
                 let fragment = Fragment {
@@ -130,7 +215,7 @@ fn rasterize_rows<M: CoverageMask, B: BandBuffer<M>, W: ColorWalk>(
                 buffer.insert(x, row, &fragment);
             }
             for i in 0..3 {
-                e[i] += step_x[i];
+                e[i] = e[i] + step_x[i];
             }
             z += setup.depth.dx;
             colors.step(&mut pixel_colors);

@@ -161,7 +161,20 @@ pub enum SceneError {
     },
     /// The light direction is zero.
     LightDirection,
+    /// A normal is not of unit length (within [`NORMAL_LENGTH_TOLERANCE`]).
+    NormalLength {
+        /// Object index.
+        object: u16,
+        /// Vertex index within the object's mesh.
+        vertex: u32,
+    },
 }
+
+/// How far the squared length of a normal may be from 1, in units of
+/// `2^-28` (the square of the unit format's step): 1/64 of it. Lighting relies
+/// on `|n . l| <= 1` up to this margin; normals rounded to Q2.14 from unit
+/// vectors are far closer.
+pub const NORMAL_LENGTH_TOLERANCE: u32 = 1 << 22;
 
 impl core::fmt::Display for SceneError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -184,6 +197,9 @@ impl core::fmt::Display for SceneError {
                 )
             }
             Self::LightDirection => write!(f, "light direction must not be zero"),
+            Self::NormalLength { object, vertex } => {
+                write!(f, "object {object}: normal {vertex} is not of unit length")
+            }
         }
     }
 }
@@ -220,6 +236,16 @@ impl Scene<'_> {
             }
             if o.mesh.normals.len() != o.mesh.positions.len() {
                 return Err(SceneError::NormalCount { object });
+            }
+            // Components are below 2^15 in magnitude: squares below 2^30, sums below 2^32.
+            if let Some(v) = o.mesh.normals.iter().position(|n| {
+                let len2: u32 = n.iter().map(|c| (c.to_bits() as i32).pow(2) as u32).sum();
+                len2.abs_diff(1 << 28) > NORMAL_LENGTH_TOLERANCE
+            }) {
+                return Err(SceneError::NormalLength {
+                    object,
+                    vertex: v as u32,
+                });
             }
             let n = o.mesh.positions.len() as u64;
             if let Some(t) = o

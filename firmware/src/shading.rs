@@ -80,7 +80,7 @@
 //! 2048-pixel screen; the output adds one rounding to 8 bits and the clamp to
 //! `[0, 255]`.
 
-use crate::fixed_point::{SUBPIXEL_BITS, UNIT_BITS};
+use crate::fixed_point::{GUARD_BAND_PX, SUBPIXEL_BITS, UNIT_BITS};
 use crate::lighting::{normalize_unit, ColorQ8, LightSetup};
 use crate::setup::{ColorSource, Plane};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -198,8 +198,9 @@ fn bits_above(n: i64) -> u32 {
 /// (columns, rows) large, one polynomial per channel.
 ///
 /// `None` for a zero-area triangle, an empty box, or a sliver whose barycentric
-/// coordinates over the box exceed the range above (use linear planes then).
-/// Samples are clamped to `[0, 255]` (Q8) first.
+/// coordinates over the box exceed the range above (use linear planes then);
+/// also for input outside the ranges above (vertices beyond the guard band, a
+/// box beyond 4096 pixels). Samples are clamped to `[0, 255]` (Q8) first.
 pub fn fit_quadratic(
     xs: &[i64; 3],
     ys: &[i64; 3],
@@ -207,6 +208,16 @@ pub fn fit_quadratic(
     size: (i64, i64),
     samples: &QuadraticSamples,
 ) -> Option<[QuadraticPolynomial; 3]> {
+    let guard = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
+    let box_limit = 4096;
+    if xs.iter().chain(ys).any(|c| c.abs() > guard)
+        || !(0..=box_limit).contains(&origin.0)
+        || !(0..=box_limit).contains(&origin.1)
+        || size.0 > box_limit
+        || size.1 > box_limit
+    {
+        return None;
+    }
     let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
     let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
     let area2 = dx1 * dy2 - dx2 * dy1;
@@ -317,18 +328,17 @@ fn rsqrt_q28(x: u64) -> u64 {
 /// angles below about 150 degrees, [`normalize_unit`] beyond; `None` for
 /// opposite vectors.
 pub fn midpoint_normal(a: &[i32; 3], b: &[i32; 3]) -> Option<[i32; 3]> {
-    let sum = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-    let len2 = sum
-        .iter()
-        .map(|c| (*c as i64 * *c as i64) as u64)
-        .sum::<u64>();
+    // Wrapping: for inputs far from unit length the result is meaningless but
+    // every step below stays in range (components below 2^31, squares in u64).
+    let sum = [0, 1, 2].map(|k| a[k].wrapping_add(b[k]) as i64);
+    let len2 = sum.iter().map(|c| (c * c) as u64).sum::<u64>();
     // |a + b|² in Q28 is at most 4 (plus rounding); bring it into [1, 4).
     if len2 < 1 << 26 {
         // Short: scale up first so the integer square root keeps 16 more bits.
-        return normalize_unit(sum.map(|c| (c as i64) << 16));
+        return normalize_unit(sum.map(|c| c << 16));
     }
     if len2 >= 1 << 31 {
-        return normalize_unit(sum.map(|c| c as i64));
+        return normalize_unit(sum);
     }
     let (x, extra) = if len2 >= 1 << 30 {
         (len2 >> 2, -1)
@@ -339,7 +349,7 @@ pub fn midpoint_normal(a: &[i32; 3], b: &[i32; 3]) -> Option<[i32; 3]> {
     };
     let y = rsqrt_q28(x) as i64;
     let shift = (30 - extra) as u32;
-    Some(sum.map(|c| ((c as i64 * y + (1 << (shift - 1))) >> shift) as i32))
+    Some(sum.map(|c| ((c * y + (1 << (shift - 1))) >> shift) as i32))
 }
 
 /// Largest deviation of a midpoint sample from the mean of its edge's vertex
@@ -360,8 +370,12 @@ pub fn samples_are_planar(samples: &QuadraticSamples) -> bool {
     (0..3).all(|k| {
         let (i, j) = (k, (k + 1) % 3);
         (0..3).all(|ch| {
-            let deviation = 2 * samples.midpoints[k][ch] - v[i][ch] - v[j][ch];
-            deviation.abs() <= 2 * PLANAR_TOLERANCE
+            // Wrapping: out-of-range samples give an arbitrary answer, never a panic.
+            let deviation = samples.midpoints[k][ch]
+                .wrapping_mul(2)
+                .wrapping_sub(v[i][ch])
+                .wrapping_sub(v[j][ch]);
+            deviation.wrapping_abs() <= 2 * PLANAR_TOLERANCE
         })
     })
 }
@@ -383,7 +397,9 @@ pub fn light_midpoints(lighting: &TriangleLighting, vertex_colors: &[ColorQ8; 3]
         let (i, j) = (k, (k + 1) % 3);
         match midpoint_normal(&lighting.normals[i], &lighting.normals[j]) {
             Some(n) => round_to_8_bits(lighting.light.shade(&n, lighting.base)),
-            None => core::array::from_fn(|ch| (vertex_colors[i][ch] + vertex_colors[j][ch]) / 2),
+            None => core::array::from_fn(|ch| {
+                ((vertex_colors[i][ch] as i64 + vertex_colors[j][ch] as i64) / 2) as i32
+            }),
         }
     })
 }

@@ -22,6 +22,23 @@ pub struct BufferStats {
     pub max_fragments_in_pixel: u32,
     /// Depth comparisons made (z-buffer modes: one per tested pixel).
     pub depth_tests: u64,
+    /// Depth comparisons made to decide about a whole triangle or a piece of one
+    /// before rasterizing it: test points of the midpoint subdivision, tile tests
+    /// of the hierarchical z-buffer. Not included in `depth_tests`.
+    pub culling_depth_tests: u64,
+    /// Depth-buffer reads that keep the hierarchical z-buffer's tile depths
+    /// exact (a tile's farthest depth recomputed after its last farthest pixel
+    /// was overwritten). Not comparisons against a new fragment.
+    pub tile_refresh_reads: u64,
+    /// Triangles skipped without writing a pixel because a whole-triangle test
+    /// judged every part of them hidden (counted once per band they were drawn in).
+    pub triangles_culled: u64,
+    /// Pieces judged hidden and skipped: sub-triangles of the midpoint
+    /// subdivision, or tiles of the hierarchical z-buffer.
+    pub pieces_culled: u64,
+    /// Pixels written without a depth test (midpoint subdivision's "visible"
+    /// verdict); these are included in `fragments_stored`.
+    pub untested_writes: u64,
 }
 
 /// Counters of the geometry stages over a frame.

@@ -10,13 +10,21 @@ use std::time::Duration;
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
     /// Built-in scenes or scene files (comma-separated).
-    #[arg(long, default_value = "teapot,spheres,starfighter", value_delimiter = ',')]
+    #[arg(
+        long,
+        default_value = "teapot,spheres,starfighter",
+        value_delimiter = ','
+    )]
     pub scene: Vec<String>,
     /// Turntable frames per run.
     #[arg(long, default_value_t = 8)]
     pub frames: u32,
     /// Methods (comma-separated): zbuffer, shared, fixed-discard, fixed-merge, merge-closest, unlimited.
-    #[arg(long, default_value = "zbuffer,shared,fixed-discard,unlimited", value_delimiter = ',')]
+    #[arg(
+        long,
+        default_value = "zbuffer,shared,fixed-discard,unlimited",
+        value_delimiter = ','
+    )]
     pub methods: Vec<String>,
     /// Also print the per-stage profile of each run (a separate, instrumented build).
     #[arg(long)]
@@ -39,12 +47,21 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
     writeln!(table, "|---|---|---|---|---|---|---|---|---|").unwrap();
     for scene in &args.scene {
         for method in &args.methods {
-            let config = FirmwareConfig { scene: scene.clone(), frames: args.frames, method: method.clone(), ..FirmwareConfig::default() };
+            let config = FirmwareConfig {
+                scene: scene.clone(),
+                frames: args.frames,
+                method: method.clone(),
+                ..FirmwareConfig::default()
+            };
             let work = dir.join(format!("{}-{method}", scene.replace(['/', ':', '.'], "_")));
             std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
             let elf = work.join("firmware.elf");
             if let Err(e) = build_m4(&config, &[], &elf) {
-                let reason = e.lines().find(|l| l.contains("does not fit")).unwrap_or("build failed").trim();
+                let reason = e
+                    .lines()
+                    .find(|l| l.contains("does not fit"))
+                    .unwrap_or("build failed")
+                    .trim();
                 writeln!(table, "| {scene} | {method} | does not fit | | | | | | |").unwrap();
                 eprintln!("{scene} {method}: {reason}");
                 continue;
@@ -75,7 +92,9 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
                         eprintln!("{scene} {method}: {}", line.trim());
                     }
                 } else {
-                    eprintln!("(install defmt-print to see the profile: cargo install defmt-print)");
+                    eprintln!(
+                        "(install defmt-print to see the profile: cargo install defmt-print)"
+                    );
                 }
             }
         }

@@ -73,7 +73,10 @@ pub fn parse_bytes(s: &str) -> Result<usize, String> {
         Some(n) => (n, 1024),
         None => (t, 1),
     };
-    num.trim().parse::<usize>().map(|n| n * mult).map_err(|_| format!("'{s}' is not a byte count (like 131072 or 128K)"))
+    num.trim()
+        .parse::<usize>()
+        .map(|n| n * mult)
+        .map_err(|_| format!("'{s}' is not a byte count (like 131072 or 128K)"))
 }
 
 /// The byte budget of one configuration.
@@ -98,7 +101,13 @@ pub struct MemoryBudget {
 impl MemoryBudget {
     /// Everything.
     pub fn total(&self) -> usize {
-        self.counts + self.main_slots + self.addresses + self.pool + self.lines + self.workspace + self.stack
+        self.counts
+            + self.main_slots
+            + self.addresses
+            + self.pool
+            + self.lines
+            + self.workspace
+            + self.stack
     }
 }
 
@@ -124,7 +133,13 @@ pub fn workspace_bytes(desc: &SceneDesc) -> usize {
 }
 
 /// The analytic budget of `args` for `desc`, with `main`/`extra`/`pool` slots.
-pub fn budget(args: &FitArgs, desc: &SceneDesc, main: usize, extra: usize, pool: usize) -> MemoryBudget {
+pub fn budget(
+    args: &FitArgs,
+    desc: &SceneDesc,
+    main: usize,
+    extra: usize,
+    pool: usize,
+) -> MemoryBudget {
     let pixels = args.width as usize * args.band as usize;
     let frag = fragment_bytes(args.grid);
     MemoryBudget {
@@ -155,7 +170,11 @@ fn print_budget(name: &str, b: &MemoryBudget, ram: usize) {
     println!("  line buffers      {:>8}", b.lines);
     println!("  frame workspace   {:>8}", b.workspace);
     println!("  stack reserve     {:>8}", b.stack);
-    println!("  total             {:>8} of {ram}: {}", b.total(), verdict(b.total(), ram));
+    println!(
+        "  total             {:>8} of {ram}: {}",
+        b.total(),
+        verdict(b.total(), ram)
+    );
 }
 
 /// Runs `host-sim fit`.
@@ -169,11 +188,21 @@ pub fn run_fit(args: &FitArgs, mut desc: SceneDesc) -> Result<(), String> {
         return Err(format!("--band must be 1..={}", args.height));
     }
     let frag = fragment_bytes(args.grid);
-    let fixed = args.fixed.map(usize::from).unwrap_or(args.main as usize + args.extra as usize);
-    let shared = budget(args, &desc, args.main as usize, args.extra as usize, args.pool);
+    let fixed = args
+        .fixed
+        .map(usize::from)
+        .unwrap_or(args.main as usize + args.extra as usize);
+    let shared = budget(
+        args,
+        &desc,
+        args.main as usize,
+        args.extra as usize,
+        args.pool,
+    );
     let fixed_budget = budget(args, &desc, fixed, 0, 0);
     let pixels = args.width as usize * args.band as usize;
-    let m_shared = pixels * (args.main as usize * frag + args.extra as usize * ADDRESS_BYTES) + args.pool * frag;
+    let m_shared = pixels * (args.main as usize * frag + args.extra as usize * ADDRESS_BYTES)
+        + args.pool * frag;
     let m_fixed = pixels * fixed * frag;
     println!(
         "{}x{}, band {}, grid {:?} ({frag}-byte fragments, {ADDRESS_BYTES}-byte addresses), scene {}",
@@ -181,7 +210,10 @@ pub fn run_fit(args: &FitArgs, mut desc: SceneDesc) -> Result<(), String> {
     );
     println!("M_shared = W R (N_main M_frag + N_extra M_addr) + N_pool M_frag = {m_shared} bytes (N_main {}, N_extra {}, N_pool {})", args.main, args.extra, args.pool);
     println!("M_fixed  = W R N_fixed M_frag = {m_fixed} bytes (N_fixed {fixed})");
-    println!("M_fixed / M_shared = {:.3}", m_fixed as f64 / m_shared.max(1) as f64);
+    println!(
+        "M_fixed / M_shared = {:.3}",
+        m_fixed as f64 / m_shared.max(1) as f64
+    );
     print_budget("shared allocation", &shared, args.ram);
     print_budget("fixed allocation", &fixed_budget, args.ram);
     println!("verdict: {}", verdict(shared.total(), args.ram));
@@ -260,8 +292,13 @@ pub fn read_link_report(elf: &Path) -> Result<LinkReport, String> {
     let bytes = std::fs::read(elf).map_err(|e| format!("{}: {e}", elf.display()))?;
     let file = object::File::parse(&*bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
     let section = |name: &str| file.section_by_name(name).map(|s| s.size()).unwrap_or(0);
-    let symbol = |name: &str| file.symbols().find(|s| s.name() == Ok(name)).map(|s| s.address());
-    let stack_start = symbol("_stack_start").ok_or("no _stack_start symbol (not a cortex-m-rt ELF?)")?;
+    let symbol = |name: &str| {
+        file.symbols()
+            .find(|s| s.name() == Ok(name))
+            .map(|s| s.address())
+    };
+    let stack_start =
+        symbol("_stack_start").ok_or("no _stack_start symbol (not a cortex-m-rt ELF?)")?;
     let stack_end = symbol("_stack_end").ok_or("no _stack_end symbol")?;
     let ram_origin = 0x2000_0000u64;
     Ok(LinkReport {
@@ -277,7 +314,10 @@ fn print_link_report(elf: &Path) -> Result<(), String> {
     let r = read_link_report(elf)?;
     let statics = r.data + r.bss + r.uninit;
     println!("linker ({}):", elf.display());
-    println!("  .data {} + .bss {} + .uninit {} = {statics} bytes of {} RAM", r.data, r.bss, r.uninit, r.ram);
+    println!(
+        "  .data {} + .bss {} + .uninit {} = {statics} bytes of {} RAM",
+        r.data, r.bss, r.uninit, r.ram
+    );
     println!("  stack (_stack_start - _stack_end): {} bytes", r.stack);
     let _ = repo_root();
     Ok(())

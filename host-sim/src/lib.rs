@@ -19,3 +19,4 @@ pub mod render;
 pub mod shading_compare;
 pub mod ssaa;
 pub mod sweep;
+pub mod zbuffer_table;

@@ -4,7 +4,7 @@ use clap::{Parser, Subcommand};
 use host_sim::builtins;
 use host_sim::convert::to_fixed;
 use host_sim::image_io::write_png;
-use host_sim::render::{render, Grid, Method, RenderConfig};
+use host_sim::render::{render, Grid, Method, MidpointSettings, RenderConfig};
 use host_sim::scene_desc::SceneDesc;
 use host_sim::scene_file::load_scene_file;
 use std::path::{Path, PathBuf};
@@ -37,6 +37,9 @@ enum Command {
     Fit(host_sim::fit::FitArgs),
     /// Instructions per frame on the Cortex-M4 under QEMU, per scene and method.
     QemuBench(host_sim::bench::BenchArgs),
+    /// Depth comparisons, time and image errors of zbuffer, zbuffer-hiz and
+    /// zbuffer-midpoint (K = 0..3), as a Markdown table.
+    ZbufferTable(host_sim::zbuffer_table::ZbufferTableArgs),
 }
 
 #[derive(clap::Args)]
@@ -92,6 +95,16 @@ struct RenderArgs {
     /// Display time of one animation frame, milliseconds.
     #[arg(long, default_value_t = 80)]
     frame_ms: u32,
+    /// Subdivisions before the first test, for --method zbuffer-midpoint (K).
+    #[arg(long, default_value_t = MidpointSettings::default().initial)]
+    subdiv_initial: u8,
+    /// Deepest subdivision level, for --method zbuffer-midpoint (D, K..=6).
+    #[arg(long, default_value_t = MidpointSettings::default().max)]
+    subdiv_max: u8,
+    /// zbuffer-midpoint: keep per-pixel depth tests in pieces judged visible,
+    /// so that only the "hidden" verdict can be wrong.
+    #[arg(long)]
+    midpoint_safe: bool,
 }
 
 fn load_scene(spec: &str, width: Option<u32>, height: Option<u32>) -> Result<SceneDesc, String> {
@@ -143,6 +156,11 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         fixed: args.fixed,
         band: args.band,
         ssaa: args.ssaa,
+        midpoint: MidpointSettings {
+            initial: args.subdiv_initial,
+            max: args.subdiv_max,
+            safe: args.midpoint_safe,
+        },
     };
     if args.turntable || args.frames.is_some() {
         if !args.turntable {
@@ -201,6 +219,12 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
     );
     println!("pool peak        {}", b.pool_peak);
     println!("max per pixel    {}", b.max_fragments_in_pixel);
+    let depth = host_sim::zbuffer_table::depth_report(&scene, &config, args.angle, &out)?;
+    if let Some((counts, differing)) = &depth {
+        for line in host_sim::zbuffer_table::report_lines(counts, *differing) {
+            println!("{line}");
+        }
+    }
     println!("time             {:.2} ms", out.elapsed.as_secs_f64() * 1e3);
     println!("wrote            {}", args.out.display());
     if let Some(path) = &args.stats_json {
@@ -231,6 +255,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
                 "max_in_pixel": b.max_fragments_in_pixel,
             },
             "bands": s.bands,
+            "depth": depth.map(|(c, d)| host_sim::zbuffer_table::report_json(&c, d)),
         });
         std::fs::write(
             path,
@@ -255,6 +280,8 @@ fn main() -> ExitCode {
         Command::Fit(args) => load_scene(&args.scene, Some(args.width), Some(args.height))
             .and_then(|desc| host_sim::fit::run_fit(args, desc)),
         Command::QemuBench(args) => host_sim::bench::run_bench(args),
+        Command::ZbufferTable(args) => load_scene(&args.scene, Some(args.width), Some(args.height))
+            .and_then(|desc| host_sim::zbuffer_table::run_zbuffer_table(args, desc)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -123,15 +123,27 @@ pub fn build_m4(config: &FirmwareConfig, features: &[&str], dest: &Path) -> Resu
 
 /// Builds a firmware binary for `config` with extra `features` and copies the ELF
 /// to `dest`.
-pub fn build_firmware(target: FirmwareTarget, config: &FirmwareConfig, features: &[&str], dest: &Path) -> Result<(), String> {
+pub fn build_firmware(
+    target: FirmwareTarget,
+    config: &FirmwareConfig,
+    features: &[&str],
+    dest: &Path,
+) -> Result<(), String> {
     let _guard = BUILD_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let root = repo_root();
     let manifest = root.join("firmware/qemu/Cargo.toml");
     let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    cmd.args(["build", "--release", "--quiet", "--no-default-features", "--bin", target.bin()])
-        .args(["--target", target.triple(), "--manifest-path"])
-        .arg(&manifest)
-        .current_dir(root.join("firmware/qemu"));
+    cmd.args([
+        "build",
+        "--release",
+        "--quiet",
+        "--no-default-features",
+        "--bin",
+        target.bin(),
+    ])
+    .args(["--target", target.triple(), "--manifest-path"])
+    .arg(&manifest)
+    .current_dir(root.join("firmware/qemu"));
     let mut all_features = vec![target.feature()];
     all_features.extend_from_slice(features);
     cmd.arg("--features").arg(all_features.join(","));
@@ -139,7 +151,9 @@ pub fn build_firmware(target: FirmwareTarget, config: &FirmwareConfig, features:
         cmd.env(k, v);
     }
     // The firmware has its own target folder; keep outer settings out of it.
-    cmd.env_remove("CARGO_TARGET_DIR").env_remove("RUSTFLAGS").env_remove("CARGO_BUILD_TARGET");
+    cmd.env_remove("CARGO_TARGET_DIR")
+        .env_remove("RUSTFLAGS")
+        .env_remove("CARGO_BUILD_TARGET");
     let out = cmd.output().map_err(|e| format!("cannot run cargo: {e}"))?;
     if !out.status.success() {
         let stderr = String::from_utf8_lossy(&out.stderr);
@@ -148,9 +162,17 @@ pub fn build_firmware(target: FirmwareTarget, config: &FirmwareConfig, features:
             .filter(|l| l.starts_with("error") || l.contains("does not fit"))
             .collect::<Vec<_>>()
             .join("\n");
-        return Err(if reason.is_empty() { stderr.into_owned() } else { reason });
+        return Err(if reason.is_empty() {
+            stderr.into_owned()
+        } else {
+            reason
+        });
     }
-    let elf = root.join("firmware/qemu/target").join(target.triple()).join("release").join(target.bin());
+    let elf = root
+        .join("firmware/qemu/target")
+        .join(target.triple())
+        .join("release")
+        .join(target.bin());
     std::fs::copy(&elf, dest).map_err(|e| format!("{}: {e}", elf.display()))?;
     Ok(())
 }
@@ -220,7 +242,11 @@ fn parse_ppm(bytes: &[u8]) -> Result<((u32, u32), Vec<u8>), String> {
     let h: u32 = fields[2].parse().map_err(|_| "bad PPM height")?;
     let data = bytes.get(i + 1..).ok_or("PPM without pixels")?;
     if data.len() != (w * h * 3) as usize {
-        return Err(format!("PPM has {} bytes of pixels, {w}x{h} needs {}", data.len(), w * h * 3));
+        return Err(format!(
+            "PPM has {} bytes of pixels, {w}x{h} needs {}",
+            data.len(),
+            w * h * 3
+        ));
     }
     Ok(((w, h), data.to_vec()))
 }
@@ -232,15 +258,35 @@ pub fn run_m4(elf: &Path, workdir: &Path, timeout: Duration) -> Result<FirmwareR
     let defmt_path = workdir.join("defmt.bin");
     let defmt_file = std::fs::File::create(&defmt_path).map_err(|e| e.to_string())?;
     let mut child = Command::new("qemu-system-arm")
-        .args(["-M", "mps2-an386", "-cpu", "cortex-m4", "-nographic", "-monitor", "none", "-serial", "none"])
-        .args(["-semihosting-config", "enable=on,target=native", "-icount", "shift=0", "-kernel"])
+        .args([
+            "-M",
+            "mps2-an386",
+            "-cpu",
+            "cortex-m4",
+            "-nographic",
+            "-monitor",
+            "none",
+            "-serial",
+            "none",
+        ])
+        .args([
+            "-semihosting-config",
+            "enable=on,target=native",
+            "-icount",
+            "shift=0",
+            "-kernel",
+        ])
         .arg(elf)
         .current_dir(workdir)
         .stdin(Stdio::null())
         .stdout(defmt_file)
         .stderr(Stdio::piped())
         .spawn()
-        .map_err(|e| format!("cannot start qemu-system-arm (install the Debian package qemu-system-arm): {e}"))?;
+        .map_err(|e| {
+            format!(
+                "cannot start qemu-system-arm (install the Debian package qemu-system-arm): {e}"
+            )
+        })?;
     let start = Instant::now();
     let status = loop {
         if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
@@ -249,7 +295,10 @@ pub fn run_m4(elf: &Path, workdir: &Path, timeout: Duration) -> Result<FirmwareR
         if start.elapsed() > timeout {
             let _ = child.kill();
             let _ = child.wait();
-            return Err(format!("QEMU did not finish within {} s", timeout.as_secs()));
+            return Err(format!(
+                "QEMU did not finish within {} s",
+                timeout.as_secs()
+            ));
         }
         std::thread::sleep(Duration::from_millis(20));
     };
@@ -261,10 +310,14 @@ pub fn run_m4(elf: &Path, workdir: &Path, timeout: Duration) -> Result<FirmwareR
     if !status.success() {
         return Err(format!("firmware exited with {status}: {stderr}"));
     }
-    let csv = std::fs::read_to_string(workdir.join("stats.csv")).map_err(|e| format!("stats.csv: {e}"))?;
+    let csv = std::fs::read_to_string(workdir.join("stats.csv"))
+        .map_err(|e| format!("stats.csv: {e}"))?;
     let mut stats = Vec::new();
     for line in csv.lines().skip(1) {
-        let v: Vec<u64> = line.split(',').map(|f| f.trim().parse().unwrap_or(0)).collect();
+        let v: Vec<u64> = line
+            .split(',')
+            .map(|f| f.trim().parse().unwrap_or(0))
+            .collect();
         if v.len() < 13 {
             return Err(format!("stats.csv: short line '{line}'"));
         }
@@ -294,7 +347,12 @@ pub fn run_m4(elf: &Path, workdir: &Path, timeout: Duration) -> Result<FirmwareR
         frames.push(rgb);
     }
     let defmt = std::fs::read(&defmt_path).unwrap_or_default();
-    Ok(FirmwareRun { stats, frames, size, defmt })
+    Ok(FirmwareRun {
+        stats,
+        frames,
+        size,
+        defmt,
+    })
 }
 
 /// Decodes a defmt stream with `defmt-print` (if installed) for display.
@@ -316,14 +374,27 @@ pub fn decode_defmt(elf: &Path, stream: &[u8]) -> Option<String> {
 /// Runs the OLED firmware under QEMU (`lm3s6965evb`, no display window), waits for
 /// it to report the frame out, takes a screendump over QMP and returns the display
 /// as 4-bit gray levels, `width x height` (the SSD0323's 128 x 64 by default).
-pub fn run_oled_screendump(elf: &Path, workdir: &Path, timeout: Duration) -> Result<Vec<u8>, String> {
+pub fn run_oled_screendump(
+    elf: &Path,
+    workdir: &Path,
+    timeout: Duration,
+) -> Result<Vec<u8>, String> {
     use std::io::{BufRead, BufReader, Read, Write};
     use std::os::unix::net::UnixStream;
     std::fs::create_dir_all(workdir).map_err(|e| format!("{}: {e}", workdir.display()))?;
     let socket = workdir.join("qmp.sock");
     let _ = std::fs::remove_file(&socket);
     let mut child = Command::new("qemu-system-arm")
-        .args(["-M", "lm3s6965evb", "-display", "none", "-monitor", "none", "-serial", "none"])
+        .args([
+            "-M",
+            "lm3s6965evb",
+            "-display",
+            "none",
+            "-monitor",
+            "none",
+            "-serial",
+            "none",
+        ])
         .arg("-qmp")
         .arg(format!("unix:{},server=on,wait=off", socket.display()))
         .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
@@ -362,26 +433,40 @@ pub fn run_oled_screendump(elf: &Path, workdir: &Path, timeout: Duration) -> Res
                 if let Some(mut e) = child.stderr.take() {
                     let _ = e.read_to_string(&mut err);
                 }
-                return Err(format!("firmware stopped before the frame was out: {text} {err}"));
+                return Err(format!(
+                    "firmware stopped before the frame was out: {text} {err}"
+                ));
             }
             Err(_) => return Err(format!("no frame within {} s", timeout.as_secs())),
         }
         let stream = UnixStream::connect(&socket).map_err(|e| format!("QMP socket: {e}"))?;
-        stream.set_read_timeout(Some(Duration::from_secs(30))).map_err(|e| e.to_string())?;
+        stream
+            .set_read_timeout(Some(Duration::from_secs(30)))
+            .map_err(|e| e.to_string())?;
         let mut writer = stream.try_clone().map_err(|e| e.to_string())?;
         let mut reader = BufReader::new(stream);
         let mut line = String::new();
-        reader.read_line(&mut line).map_err(|e| format!("QMP greeting: {e}"))?;
+        reader
+            .read_line(&mut line)
+            .map_err(|e| format!("QMP greeting: {e}"))?;
         let dump = workdir.join("screendump.ppm");
         let commands = [
             r#"{"execute":"qmp_capabilities"}"#.to_string(),
-            format!(r#"{{"execute":"screendump","arguments":{{"filename":"{}"}}}}"#, dump.display()),
+            format!(
+                r#"{{"execute":"screendump","arguments":{{"filename":"{}"}}}}"#,
+                dump.display()
+            ),
         ];
         for c in commands {
-            writer.write_all(c.as_bytes()).and_then(|_| writer.write_all(b"\n")).map_err(|e| e.to_string())?;
+            writer
+                .write_all(c.as_bytes())
+                .and_then(|_| writer.write_all(b"\n"))
+                .map_err(|e| e.to_string())?;
             loop {
                 line.clear();
-                reader.read_line(&mut line).map_err(|e| format!("QMP: {e}"))?;
+                reader
+                    .read_line(&mut line)
+                    .map_err(|e| format!("QMP: {e}"))?;
                 if line.contains("\"error\"") {
                     return Err(format!("QMP: {line}"));
                 }
@@ -422,7 +507,9 @@ pub fn screendump_to_gray4(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8
             }
             let (r, g, b) = first;
             if r != g || g != b || r % 17 != 0 {
-                return Err(format!("screendump pixel ({x}, {y}) = {first:?} is not a 4-bit gray"));
+                return Err(format!(
+                    "screendump pixel ({x}, {y}) = {first:?} is not a 4-bit gray"
+                ));
             }
             levels.push(r / 17);
         }

@@ -2,18 +2,22 @@
 
 use crate::convert::FixedScene;
 use embedded_graphics_core::pixelcolor::Rgb888;
-use mcu_abuffer::band_buffer::BandBuffer;
+use mcu_abuffer::band_buffer::{BandBuffer, DrawParams};
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::{Fragment, PackedFragment};
 use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
 use mcu_abuffer::pool::PoolAddress;
+use mcu_abuffer::raster::rasterize;
 use mcu_abuffer::renderer::{
     render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
 };
+use mcu_abuffer::setup::{Rejection, SetupVertex, TriangleSetup};
 use mcu_abuffer::sink::ImageSink;
 use mcu_abuffer::stats::{BufferStats, FrameStats};
 use mcu_abuffer::zbuffer::ZBuffer;
+use mcu_abuffer::zbuffer_hiz::{tile_count, HierarchicalZBuffer, HizTile};
+use mcu_abuffer::zbuffer_midpoint::{MidpointConfig, MidpointZBuffer, MAX_SUBDIVISION_DEPTH};
 use std::time::{Duration, Instant};
 
 /// How pixels are stored and resolved.
@@ -32,6 +36,13 @@ pub enum Method {
     MergeClosest,
     /// One sample per pixel, no antialiasing.
     Zbuffer,
+    /// The z-buffer with a farthest depth per 8x8 tile; triangles are rejected
+    /// per tile before per-pixel tests (exactly the `zbuffer` image).
+    ZbufferHiz,
+    /// The z-buffer with midpoint subdivision: corners and centroid tested
+    /// against the depth buffer decide about whole pieces of triangles
+    /// (inexact; see [`MidpointSettings`]).
+    ZbufferMidpoint,
     /// Ground truth: `ssaa x ssaa` samples per pixel, each depth-tested and shaded,
     /// box-filtered (see [`crate::ssaa`]); independent of the A-buffer.
     Ssaa,
@@ -84,6 +95,51 @@ pub struct RenderConfig {
     pub band: u16,
     /// Samples per pixel side for [`Method::Ssaa`].
     pub ssaa: u8,
+    /// Subdivision of [`Method::ZbufferMidpoint`].
+    pub midpoint: MidpointSettings,
+}
+
+/// How [`Method::ZbufferMidpoint`] subdivides (the library's
+/// [`MidpointConfig`], serializable).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct MidpointSettings {
+    /// Subdivisions before the first test (`K`).
+    pub initial: u8,
+    /// Deepest subdivision level (`D`).
+    pub max: u8,
+    /// Keep per-pixel tests in pieces judged visible.
+    pub safe: bool,
+}
+
+impl Default for MidpointSettings {
+    fn default() -> Self {
+        let c = MidpointConfig::DEFAULT;
+        Self {
+            initial: c.initial_subdivisions,
+            max: c.max_depth,
+            safe: c.test_visible_pixels,
+        }
+    }
+}
+
+impl MidpointSettings {
+    /// The library configuration, or why these settings are not valid.
+    pub fn config(&self) -> Result<MidpointConfig, String> {
+        let config = MidpointConfig {
+            initial_subdivisions: self.initial,
+            max_depth: self.max,
+            test_visible_pixels: self.safe,
+        };
+        if config.is_valid() {
+            Ok(config)
+        } else {
+            Err(format!(
+                "subdivision depths need K <= D <= {MAX_SUBDIVISION_DEPTH} \
+                 (--subdiv-initial {}, --subdiv-max {})",
+                self.initial, self.max
+            ))
+        }
+    }
 }
 
 impl Default for RenderConfig {
@@ -97,6 +153,7 @@ impl Default for RenderConfig {
             fixed: 3,
             band: 16,
             ssaa: 4,
+            midpoint: MidpointSettings::default(),
         }
     }
 }
@@ -117,7 +174,9 @@ pub struct RenderOutput {
     pub rgb: Vec<u8>,
     /// Frame statistics.
     pub stats: FrameStats,
-    /// Fragments the rasterizer produced per pixel (depth complexity before visibility).
+    /// Fragments the rasterizer produced per pixel (depth complexity before
+    /// visibility). All zero for `zbuffer-hiz` and `zbuffer-midpoint`, whose
+    /// buffers rasterize (or skip) whole triangles themselves.
     pub generated_per_pixel: Vec<u16>,
     /// Fragments stored per pixel after all insertions (after visibility and merging).
     pub stored_per_pixel: Vec<u8>,
@@ -132,6 +191,9 @@ struct CountingBuffer<'m, B> {
     inner: B,
     y0: u16,
     generated: &'m mut [u16],
+    /// Hand whole triangles to the inner buffer (which decides about them
+    /// before rasterizing; its fragments are then not counted).
+    forward_triangles: bool,
 }
 
 impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> {
@@ -144,6 +206,28 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
     fn begin_band(&mut self, y0: u16, rows: u16) {
         self.y0 = y0;
         self.inner.begin_band(y0, rows)
+    }
+    fn draw_triangle(
+        &mut self,
+        vertices: &[SetupVertex; 3],
+        params: &DrawParams,
+        band_y0: u16,
+        band_rows: u16,
+    ) -> Result<(), Rejection> {
+        if self.forward_triangles {
+            return self
+                .inner
+                .draw_triangle(vertices, params, band_y0, band_rows);
+        }
+        let setup = TriangleSetup::new(
+            vertices,
+            params.cull_backfaces,
+            params.colors,
+            params.width,
+            params.height,
+        )?;
+        rasterize(&setup, band_y0, band_rows, self);
+        Ok(())
     }
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
         let i = (self.y0 as usize + row as usize) * self.inner.width() as usize + x as usize;
@@ -219,6 +303,15 @@ pub fn render(
     config: &RenderConfig,
     turntable_deg: f32,
 ) -> Result<RenderOutput, String> {
+    // Refused here, before any buffer is sized from the scene: NaN has no
+    // fixed-point angle, and a zero-sized image has no band.
+    if turntable_deg.is_nan() {
+        return Err("the turntable angle is not a number".into());
+    }
+    scene
+        .scene(&scene.objects())
+        .validate()
+        .map_err(|e| format!("invalid scene: {e}"))?;
     if config.method == Method::Ssaa {
         return crate::ssaa::render_ssaa(scene, config.ssaa, turntable_deg);
     }
@@ -245,6 +338,10 @@ pub fn render(
                     inner: $buffer,
                     y0: 0,
                     generated: &mut generated,
+                    forward_triangles: matches!(
+                        config.method,
+                        Method::ZbufferHiz | Method::ZbufferMidpoint
+                    ),
                 };
                 render_frame::<$mask, _, _, _>(
                     &lib_scene,
@@ -264,11 +361,31 @@ pub fn render(
                 .map_err(|e| e.to_string())?
             }};
         }
-        if config.method == Method::Zbuffer {
+        if matches!(
+            config.method,
+            Method::Zbuffer | Method::ZbufferHiz | Method::ZbufferMidpoint
+        ) {
             let mut depth = vec![0u32; w as usize * band as usize];
             let mut color = vec![Rgb888::new(0, 0, 0); w as usize * band as usize];
-            let zb = ZBuffer::new(w, band, &mut depth, &mut color).ok_or("z-buffer storage")?;
-            run!(zb, Mask1x1)
+            match config.method {
+                Method::ZbufferHiz => {
+                    let mut tiles = vec![HizTile::EMPTY; tile_count(w, band)];
+                    let zb = HierarchicalZBuffer::new(w, band, &mut depth, &mut color, &mut tiles)
+                        .ok_or("z-buffer storage")?;
+                    run!(zb, Mask1x1)
+                }
+                Method::ZbufferMidpoint => {
+                    let midpoint = config.midpoint.config()?;
+                    let zb = MidpointZBuffer::new(w, band, &mut depth, &mut color, midpoint)
+                        .ok_or("z-buffer storage")?;
+                    run!(zb, Mask1x1)
+                }
+                _ => {
+                    let zb =
+                        ZBuffer::new(w, band, &mut depth, &mut color).ok_or("z-buffer storage")?;
+                    run!(zb, Mask1x1)
+                }
+            }
         } else {
             let samples = config.grid.samples();
             let (policy, main, extra, pool) = match config.method {
@@ -295,7 +412,9 @@ pub fn render(
                 ),
                 Method::FixedDiscard => (OverflowPolicy::Discard, config.fixed, 0, 0),
                 Method::FixedMerge => (OverflowPolicy::MergeFarthest, config.fixed, 0, 0),
-                Method::Zbuffer | Method::Ssaa => unreachable!(),
+                Method::Zbuffer | Method::ZbufferHiz | Method::ZbufferMidpoint | Method::Ssaa => {
+                    unreachable!()
+                }
             };
             pool_slots = pool;
             let cfg = BufferConfig {

@@ -9,6 +9,7 @@
 //! faces) and has one unit normal per vertex.
 
 mod geom;
+pub mod overdraw;
 mod shapes;
 mod starfighter;
 pub mod synthetic;
@@ -19,7 +20,15 @@ use crate::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc};
 use geom::{add, cross, dot, mul, normalize, sub, Mat3, V3};
 
 /// Names of the built-in scenes.
-pub const BUILTIN_SCENES: &[&str] = &["teapot", "spheres", "starfighter", "layers", "grid", "knot"];
+pub const BUILTIN_SCENES: &[&str] = &[
+    "teapot",
+    "spheres",
+    "starfighter",
+    "layers",
+    "grid",
+    "knot",
+    "overdraw",
+];
 
 /// Names of the built-in meshes, as accepted by [`builtin_mesh`] (besides
 /// the `teapot:N` and `sphere:N` forms).
@@ -102,8 +111,9 @@ fn parse_param(name: &str, arg: Option<&str>, default: u32, max: u32) -> Result<
 /// A built-in scene by name at the given image size: `teapot` (also
 /// `teapot:N` for another tessellation), `spheres`, `starfighter`, or one of
 /// the synthetic scenes `layers:N:DEPTH:SEED`, `grid:N` and
-/// `knot:SEGMENTS:SIDES` (see [`synthetic`]). `None` for an unknown name or
-/// bad parameters.
+/// `knot:SEGMENTS:SIDES` (see [`synthetic`]), or `overdraw:N:SEED` (many
+/// overlapping cubes and coarse spheres, see [`overdraw`]). `None` for an
+/// unknown name or bad parameters.
 ///
 /// Each scene has one directional light, a dark background and a camera
 /// looking slightly down at the object(s), which fill about three quarters
@@ -129,6 +139,11 @@ pub fn builtin_scene(name: &str, width: u32, height: u32) -> Option<SceneDesc> {
             [220, 170, 120],
             [0.0, 30.0, 0.0],
         )],
+        _ if bare == "overdraw" || bare.starts_with("overdraw:") => {
+            let params: Vec<&str> = bare.split(':').skip(1).collect();
+            toward_eye = [0.1, 0.2, 1.0];
+            overdraw::overdraw_objects(&params)?
+        }
         _ => {
             let synthetic = synthetic::synthetic_scene(bare)?;
             toward_eye = synthetic.toward_eye;

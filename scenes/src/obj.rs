@@ -70,9 +70,18 @@ impl std::error::Error for LoadError {}
 /// an error without a line that includes the operating system's reason.
 pub fn load_obj(path: &Path) -> Result<MeshData, LoadError> {
     let file_name = path.display().to_string();
-    let bytes = std::fs::read(path)
+    let bytes = read_regular_file(path)
         .map_err(|e| LoadError::in_file(&file_name, format!("cannot read file: {e}")))?;
     parse_obj_bytes(&bytes, &file_name)
+}
+
+/// Reads a whole file, refusing anything but a regular file: a device or a pipe
+/// named as a mesh (`/dev/zero`, `/dev/stdin`) would never end or block.
+pub(crate) fn read_regular_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::other("not a regular file"));
+    }
+    std::fs::read(path)
 }
 
 /// Parses OBJ data that has already been read from a file.

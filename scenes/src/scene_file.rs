@@ -200,6 +200,13 @@ impl Source<'_> {
             .filter(|l| !l.is_empty())
             .collect::<Vec<_>>()
             .join(": ");
+        // The toml crate gives some errors (a key with no value at the end of
+        // the file) no message at all.
+        let message = if message.is_empty() {
+            "invalid TOML: a value is missing or incomplete".to_string()
+        } else {
+            message
+        };
         // The only required top-level key; toml gives no useful span for it.
         if message == "missing field `camera`" {
             return self.file_error("missing [camera] table");
@@ -516,7 +523,7 @@ fn load_referenced_obj(
     path: &Path,
 ) -> Result<MeshData, LoadError> {
     let obj_name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| {
+    let bytes = obj::read_regular_file(path).map_err(|e| {
         LoadError::in_file(
             &obj_name,
             format!(

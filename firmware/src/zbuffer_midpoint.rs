@@ -1,0 +1,1073 @@
+//! The z-buffer with midpoint subdivision (SPEC section 7): before a triangle is
+//! rasterized, its three corners and its centroid are compared with the depth
+//! buffer at the pixels they fall in.
+//!
+//! - All four farther than the buffer: the piece is judged hidden and skipped.
+//! - All four nearer (or tied): the piece is judged visible and written without
+//!   per-pixel depth tests, which is where comparisons are saved
+//!   ([`MidpointConfig::test_visible_pixels`] keeps the tests, so that only the
+//!   "hidden" verdict can be wrong).
+//! - Otherwise the piece is split at its centroid into three (centroid + each
+//!   edge) and each is judged the same way, down to
+//!   [`MidpointConfig::max_depth`] levels; a piece still undecided there is
+//!   rasterized with per-pixel tests.
+//!
+//! A triangle is first split [`MidpointConfig::initial_subdivisions`] times
+//! without testing. Pieces wait on an explicit stack of
+//! [`STACK_CAPACITY`] entries (depth-first, no recursion).
+//!
+//! Every piece of a triangle is judged before any is drawn: the pieces share
+//! corners, and a corner's pixel written by one piece would otherwise make its
+//! neighbors look hidden behind their own triangle. The first walk logs one
+//! action per judged piece (two bits each, at most [`MAX_JUDGED_PIECES`]); the
+//! second walk replays the log and draws, without reading the depth buffer
+//! except for the per-pixel tests of pieces drawn with tests.
+//!
+//! The verdicts are guesses: a nearer surface, or a gap between surfaces, that
+//! falls between the four test points goes unseen. That is the method as
+//! published; the host simulator counts the pixels where it differs from the
+//! plain z-buffer.
+//!
+//! Band-limited: the buffer holds only the band's rows, so a test point outside
+//! the band (or off screen) cannot be compared; a piece with such a point is
+//! undecided and split further. Once one point is nearer and another farther
+//! the verdict is settled, so the remaining points are not read.
+//!
+//! Every piece is drawn with the whole triangle's depth and color planes, only
+//! its edges are its own. The pieces share their inner edges exactly and the
+//! top-left rule gives each pixel to one of them, so pieces drawn with tests
+//! produce exactly the plain z-buffer's pixels.
+
+use crate::band_buffer::{BandBuffer, DrawParams};
+use crate::coverage::{CoverageMask, Mask1x1};
+use crate::fixed_point::{GUARD_BAND_PX, SUBPIXEL_BITS};
+use crate::fragment::Fragment;
+use crate::raster::rasterize;
+use crate::setup::{signed_area2, ColorPlanes, Edge, Plane, Rejection, SetupVertex, TriangleSetup};
+use crate::shading::{PhongPlanes, QuadraticPolynomial};
+use crate::stats::BufferStats;
+use crate::zbuffer::EMPTY_DEPTH;
+use embedded_graphics_core::pixelcolor::Rgb888;
+
+/// The deepest subdivision accepted (`3^6 = 729` pieces per triangle at most).
+pub const MAX_SUBDIVISION_DEPTH: u8 = 6;
+
+/// Pieces the subdivision stack holds: a depth-first walk that replaces one
+/// piece by three keeps at most two waiting siblings per level, plus the three
+/// just pushed.
+pub const STACK_CAPACITY: usize = 2 * MAX_SUBDIVISION_DEPTH as usize + 1;
+
+/// Most pieces of one triangle that can be judged: every node of a full
+/// ternary tree [`MAX_SUBDIVISION_DEPTH`] levels deep.
+pub const MAX_JUDGED_PIECES: usize = (3usize.pow(MAX_SUBDIVISION_DEPTH as u32 + 1) - 1) / 2;
+
+/// How [`MidpointZBuffer`] subdivides.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MidpointConfig {
+    /// Subdivisions before the first test (`K`; the published method uses 2).
+    pub initial_subdivisions: u8,
+    /// Deepest subdivision level (`D`, at least `K`, at most
+    /// [`MAX_SUBDIVISION_DEPTH`]); an undecided piece at this level is
+    /// rasterized with per-pixel depth tests.
+    pub max_depth: u8,
+    /// Test every pixel of a piece judged visible too (only the "hidden"
+    /// verdict can then be wrong). The published method writes them untested.
+    pub test_visible_pixels: bool,
+}
+
+impl MidpointConfig {
+    /// The published setting: two initial subdivisions, down to four levels,
+    /// visible pieces written untested.
+    pub const DEFAULT: Self = Self {
+        initial_subdivisions: 2,
+        max_depth: 4,
+        test_visible_pixels: false,
+    };
+
+    /// Whether `K <= D <= MAX_SUBDIVISION_DEPTH`.
+    pub fn is_valid(&self) -> bool {
+        self.initial_subdivisions <= self.max_depth && self.max_depth <= MAX_SUBDIVISION_DEPTH
+    }
+}
+
+impl Default for MidpointConfig {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// A corner or centroid: window position in 1/16 pixel and depth.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct TestPoint {
+    x: i32,
+    y: i32,
+    z: u32,
+}
+
+/// A piece of a triangle waiting on the stack: corners ordered so that its
+/// edge functions are positive inside, as [`TriangleSetup`] orders them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Piece {
+    corners: [TestPoint; 3],
+    level: u8,
+}
+
+impl Piece {
+    /// The centroid, rounded down to 1/16 pixel; depth the mean of the corners'.
+    fn centroid(&self) -> TestPoint {
+        let [a, b, c] = self.corners;
+        TestPoint {
+            x: (a.x + b.x + c.x).div_euclid(3),
+            y: (a.y + b.y + c.y).div_euclid(3),
+            z: ((a.z as u64 + b.z as u64 + c.z as u64) / 3) as u32,
+        }
+    }
+
+    /// The three pieces around the centroid, or `None` when the rounded
+    /// centroid is not strictly inside (a sliver too thin to split).
+    fn split(&self) -> Option<[Piece; 3]> {
+        let g = self.centroid();
+        let [a, b, c] = self.corners;
+        let level = self.level + 1;
+        let children = [[a, b, g], [b, c, g], [c, a, g]].map(|corners| Piece { corners, level });
+        children
+            .iter()
+            .all(|p| area2(&p.corners) > 0)
+            .then_some(children)
+    }
+}
+
+/// Twice the signed area of three points, positive for the inside-positive order.
+fn area2(p: &[TestPoint; 3]) -> i64 {
+    let v = p.map(|t| SetupVertex {
+        x: t.x,
+        y: t.y,
+        ..SetupVertex::default()
+    });
+    signed_area2(&v)
+}
+
+/// What happens to a piece: decided while judging, replayed while drawing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Action {
+    /// Judged hidden.
+    Skip = 0,
+    /// Judged visible: written without per-pixel tests.
+    DrawUntested = 1,
+    /// Split in three.
+    Split = 2,
+    /// Rasterized with per-pixel tests.
+    DrawTested = 3,
+}
+
+/// The actions of the pieces of one triangle in walking order (depth-first,
+/// a piece before its children), two bits each.
+struct ActionLog {
+    words: [u32; MAX_JUDGED_PIECES.div_ceil(16)],
+    len: usize,
+    next: usize,
+}
+
+impl ActionLog {
+    fn new() -> Self {
+        Self {
+            words: [0; MAX_JUDGED_PIECES.div_ceil(16)],
+            len: 0,
+            next: 0,
+        }
+    }
+
+    /// Appends an action; returns its index.
+    fn push(&mut self, action: Action) -> usize {
+        let i = self.len;
+        self.set(i, action);
+        self.len += 1;
+        i
+    }
+
+    /// Replaces action `i`.
+    fn set(&mut self, i: usize, action: Action) {
+        let shift = 2 * (i % 16);
+        let word = &mut self.words[i / 16];
+        *word = (*word & !(3 << shift)) | (action as u32) << shift;
+    }
+
+    /// Drops every action after the first `len`.
+    fn truncate(&mut self, len: usize) {
+        self.len = self.len.min(len);
+    }
+
+    /// The next action when replaying.
+    fn take(&mut self) -> Action {
+        let code = (self.words[self.next / 16] >> (2 * (self.next % 16))) & 3;
+        self.next += 1;
+        match code {
+            0 => Action::Skip,
+            1 => Action::DrawUntested,
+            2 => Action::Split,
+            _ => Action::DrawTested,
+        }
+    }
+}
+
+/// What the pieces of a subtree have in common, gathered while judging.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Common {
+    /// No piece with pixels in the band yet.
+    Nothing,
+    /// Every piece so far ends in this action (never `Split`).
+    Same(Action),
+    /// The pieces end differently.
+    Mixed,
+}
+
+impl Common {
+    /// Adds the outcome of one more piece (`Split` for a piece whose own
+    /// pieces ended differently).
+    fn with(self, action: Action) -> Self {
+        match (self, action) {
+            (_, Action::Split) => Common::Mixed,
+            (Common::Nothing, a) => Common::Same(a),
+            (Common::Same(a), b) if a == b => self,
+            _ => Common::Mixed,
+        }
+    }
+}
+
+/// A piece being split while judging: its log entry, which child comes next,
+/// and what its children have in common so far.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    piece: Piece,
+    slot: usize,
+    next_child: usize,
+    common: Common,
+}
+
+/// What judging a triangle found.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct JudgeOutcome {
+    /// Some piece is to be drawn.
+    drawn: bool,
+    /// Some piece was judged hidden.
+    culled: bool,
+}
+
+/// What the four test points say about a piece.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Verdict {
+    Hidden,
+    Visible,
+    Undecided,
+}
+
+/// A band of depths and colors, one per pixel, drawing triangles by midpoint subdivision.
+pub struct MidpointZBuffer<'a> {
+    width: u16,
+    band_height: u16,
+    rows: u16,
+    depth: &'a mut [u32],
+    color: &'a mut [Rgb888],
+    config: MidpointConfig,
+    /// Set while a piece judged visible is written without tests.
+    untested: bool,
+    /// Draw a piece whose pieces all end alike in one go (off only in tests,
+    /// to draw every piece on its own).
+    merge_agreeing_pieces: bool,
+    stack_peak: usize,
+    stats: BufferStats,
+}
+
+impl<'a> MidpointZBuffer<'a> {
+    /// A midpoint-subdivision z-buffer over `depth` and `color`, each of length
+    /// `width * band_height`.
+    ///
+    /// Returns `None` when a slice has another length, a size is zero or the
+    /// configuration is not valid ([`MidpointConfig::is_valid`]).
+    pub fn new(
+        width: u16,
+        band_height: u16,
+        depth: &'a mut [u32],
+        color: &'a mut [Rgb888],
+        config: MidpointConfig,
+    ) -> Option<Self> {
+        let n = width as usize * band_height as usize;
+        if n == 0 || depth.len() != n || color.len() != n || !config.is_valid() {
+            return None;
+        }
+        Some(Self {
+            width,
+            band_height,
+            rows: band_height,
+            depth,
+            color,
+            config,
+            untested: false,
+            merge_agreeing_pieces: true,
+            stack_peak: 0,
+            stats: BufferStats::default(),
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> MidpointConfig {
+        self.config
+    }
+
+    /// The most pieces the subdivision stack has held at once (at most
+    /// [`STACK_CAPACITY`]).
+    pub fn stack_peak(&self) -> usize {
+        self.stack_peak
+    }
+
+    /// Compares the piece's corners and centroid with the depth buffer.
+    fn judge(&mut self, piece: &Piece, band_y0: u16) -> Verdict {
+        let [a, b, c] = piece.corners;
+        let points = [a, b, c, piece.centroid()];
+        let mut index = [0usize; 4];
+        for (slot, p) in index.iter_mut().zip(&points) {
+            let (px, py) = (p.x >> SUBPIXEL_BITS, p.y >> SUBPIXEL_BITS);
+            let row = py - band_y0 as i32;
+            if px < 0 || px >= self.width as i32 || row < 0 || row >= self.rows as i32 {
+                // Not in the band: nothing to compare with.
+                return Verdict::Undecided;
+            }
+            *slot = row as usize * self.width as usize + px as usize;
+        }
+        let (mut nearer, mut farther) = (false, false);
+        for (p, &i) in points.iter().zip(&index) {
+            self.stats.culling_depth_tests += 1;
+            // Ties go to the new surface, as in the per-pixel test.
+            if p.z <= self.depth[i] {
+                nearer = true;
+            } else {
+                farther = true;
+            }
+            if nearer && farther {
+                return Verdict::Undecided;
+            }
+        }
+        if farther {
+            Verdict::Hidden
+        } else {
+            Verdict::Visible
+        }
+    }
+
+    /// The action for `piece` (in the band) while judging: forced splits
+    /// above level `K`, then the verdict of its test points.
+    fn decide(&mut self, piece: &Piece, band_y0: u16) -> Action {
+        let config = self.config;
+        let action = if piece.level < config.initial_subdivisions {
+            Action::Split
+        } else {
+            match self.judge(piece, band_y0) {
+                Verdict::Hidden => {
+                    self.stats.pieces_culled += 1;
+                    Action::Skip
+                }
+                Verdict::Visible if config.test_visible_pixels => Action::DrawTested,
+                Verdict::Visible => Action::DrawUntested,
+                Verdict::Undecided if piece.level < config.max_depth => Action::Split,
+                Verdict::Undecided => Action::DrawTested,
+            }
+        };
+        if action == Action::Split && piece.split().is_none() {
+            // Too thin to split: rasterize it with tests.
+            return Action::DrawTested;
+        }
+        action
+    }
+
+    /// First walk over the pieces of `root` (a piece of `setup`) in the band
+    /// `(first row, rows)`: judges them and logs one action per piece with
+    /// pixels in the band, depth-first. Reads the depth buffer, writes nothing.
+    ///
+    /// A piece whose pieces all end in the same action takes that action
+    /// itself and their entries are dropped: the same pixels, drawn in one go.
+    fn judge_pieces(
+        &mut self,
+        setup: &TriangleSetup,
+        root: Piece,
+        band: (u16, u16),
+        log: &mut ActionLog,
+    ) -> JudgeOutcome {
+        let (band_y0, rows) = band;
+        let band_last = band_y0 as u32 + rows as u32 - 1;
+        let mut outcome = JudgeOutcome::default();
+        // Only pieces being split wait here: one per level above the deepest.
+        let mut frames = [Frame {
+            piece: root,
+            slot: 0,
+            next_child: 0,
+            common: Common::Nothing,
+        }; MAX_SUBDIVISION_DEPTH as usize + 1];
+        let mut depth = 0usize;
+        let mut next = Some(root);
+        loop {
+            // Visit the next piece: a leaf reports its action to its parent,
+            // a piece to split becomes a frame.
+            let mut finished = None;
+            if let Some(piece) = next.take() {
+                if piece_in_band(setup, &piece, band_y0, band_last) {
+                    let action = self.decide(&piece, band_y0);
+                    let slot = log.push(action);
+                    match action {
+                        Action::Split => {
+                            frames[depth] = Frame {
+                                piece,
+                                slot,
+                                next_child: 0,
+                                common: Common::Nothing,
+                            };
+                            depth += 1;
+                            self.stack_peak = self.stack_peak.max(depth);
+                        }
+                        Action::Skip => {
+                            outcome.culled = true;
+                            finished = Some(action);
+                        }
+                        _ => {
+                            outcome.drawn = true;
+                            finished = Some(action);
+                        }
+                    }
+                }
+            } else if depth > 0 {
+                // A frame whose children are all done: merge them if they agree.
+                let frame = &frames[depth - 1];
+                if frame.next_child == 3 {
+                    depth -= 1;
+                    let merged = match frame.common {
+                        Common::Same(action) if self.merge_agreeing_pieces => {
+                            log.set(frame.slot, action);
+                            log.truncate(frame.slot + 1);
+                            action
+                        }
+                        _ => Action::Split,
+                    };
+                    finished = Some(merged);
+                }
+            }
+            if let Some(action) = finished {
+                if depth == 0 {
+                    break;
+                }
+                let parent = &mut frames[depth - 1];
+                parent.common = parent.common.with(action);
+            }
+            if depth == 0 {
+                break;
+            }
+            let top = &mut frames[depth - 1];
+            if top.next_child < 3 && next.is_none() {
+                next = top.piece.split().map(|c| c[top.next_child]);
+                top.next_child += 1;
+            }
+        }
+        outcome
+    }
+
+    /// Second walk: replays the log over the same pieces in the same order and
+    /// draws them.
+    fn draw_pieces(
+        &mut self,
+        setup: &TriangleSetup,
+        root: Piece,
+        band: (u16, u16),
+        log: &mut ActionLog,
+    ) {
+        let (band_y0, rows) = band;
+        let band_last = band_y0 as u32 + rows as u32 - 1;
+        let mut stack = [Piece::default(); STACK_CAPACITY];
+        stack[0] = root;
+        let mut len = 1usize;
+        while len > 0 {
+            len -= 1;
+            let piece = stack[len];
+            if !piece_in_band(setup, &piece, band_y0, band_last) {
+                continue;
+            }
+            match log.take() {
+                Action::Skip => {}
+                Action::Split => {
+                    // Depth-first: at most two waiting siblings per level, so
+                    // three more always fit (see STACK_CAPACITY).
+                    if let Some(children) = piece.split() {
+                        for child in children.iter().rev() {
+                            stack[len] = *child;
+                            len += 1;
+                        }
+                        self.stack_peak = self.stack_peak.max(len);
+                    }
+                }
+                action => {
+                    let untested = action == Action::DrawUntested;
+                    self.draw_piece(setup, &piece, band_y0, rows, untested);
+                }
+            }
+        }
+    }
+
+    /// Rasterizes the pixels of `piece` (a piece of `setup`) in the band.
+    fn draw_piece(
+        &mut self,
+        setup: &TriangleSetup,
+        piece: &Piece,
+        band_y0: u16,
+        band_rows: u16,
+        untested: bool,
+    ) {
+        self.untested = untested;
+        if piece.level == 0 {
+            rasterize(setup, band_y0, band_rows, self);
+        } else if let Some(part) = piece_setup(setup, piece) {
+            rasterize(&part, band_y0, band_rows, self);
+        }
+        self.untested = false;
+    }
+}
+
+/// Whether a piece has pixel rows in band rows `band_y0 ..= band_last` (and
+/// within `setup`'s box).
+fn piece_in_band(setup: &TriangleSetup, piece: &Piece, band_y0: u16, band_last: u32) -> bool {
+    let ys = piece.corners.map(|p| p.y >> SUBPIXEL_BITS);
+    let lo = ys
+        .iter()
+        .copied()
+        .min()
+        .unwrap_or(0)
+        .max(setup.y0 as i32)
+        .max(band_y0 as i32);
+    let hi = ys
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(0)
+        .min(setup.y1 as i32)
+        .min(band_last as i32);
+    lo <= hi
+}
+
+/// `plane` re-anchored from pixel `(0, 0)` of its box to pixel `(di, dj)`.
+fn shift_plane(plane: &Plane, di: i64, dj: i64) -> Plane {
+    Plane {
+        origin: plane.origin + di * plane.dx + dj * plane.dy,
+        ..*plane
+    }
+}
+
+/// `q` re-anchored from lattice point `(0, 0)` to `(di, dj)`: the same values
+/// at the same pixels (exact integer identity).
+fn shift_quadratic(q: &QuadraticPolynomial, di: i64, dj: i64) -> QuadraticPolynomial {
+    let (a, b, c) = (q.a as i128, q.b as i128, q.c as i128);
+    let (i, j) = (di as i128, dj as i128);
+    QuadraticPolynomial {
+        d: (q.d as i128 + 2 * a * i + c * j) as i64,
+        e: (q.e as i128 + 2 * b * j + c * i) as i64,
+        f: q.eval(di, dj),
+        ..*q
+    }
+}
+
+/// The setup of `piece`: its own edges and box, `setup`'s depth and colors
+/// moved to the box's first pixel. `None` when the box misses `setup`'s.
+fn piece_setup(setup: &TriangleSetup, piece: &Piece) -> Option<TriangleSetup> {
+    let xs = piece.corners.map(|p| p.x as i64);
+    let ys = piece.corners.map(|p| p.y as i64);
+    let lo = |v: &[i64; 3]| v.iter().copied().min().unwrap_or(0) >> SUBPIXEL_BITS;
+    let hi = |v: &[i64; 3]| v.iter().copied().max().unwrap_or(0) >> SUBPIXEL_BITS;
+    let x0 = lo(&xs).max(setup.x0 as i64);
+    let x1 = hi(&xs).min(setup.x1 as i64);
+    let y0 = lo(&ys).max(setup.y0 as i64);
+    let y1 = hi(&ys).min(setup.y1 as i64);
+    if x0 > x1 || y0 > y1 {
+        return None;
+    }
+    // Edge functions exactly as the triangle setup builds them (top-left rule).
+    let half = 1i64 << (SUBPIXEL_BITS - 1);
+    let cx = (x0 << SUBPIXEL_BITS) + half;
+    let cy = (y0 << SUBPIXEL_BITS) + half;
+    let mut edges = [Edge::default(); 3];
+    for (i, e) in edges.iter_mut().enumerate() {
+        let (ia, ib) = (i, (i + 1) % 3);
+        let a = -(ys[ib] - ys[ia]);
+        let b = xs[ib] - xs[ia];
+        let top_left = a > 0 || (a == 0 && b > 0);
+        let c = -(a * xs[ia] + b * ys[ia]) - if top_left { 0 } else { 1 };
+        *e = Edge {
+            a,
+            b,
+            origin: a * cx + b * cy + c,
+        };
+    }
+    let (di, dj) = (x0 - setup.x0 as i64, y0 - setup.y0 as i64);
+    let colors = match &setup.colors {
+        ColorPlanes::Constant(c) => ColorPlanes::Constant(*c),
+        ColorPlanes::Linear(p) => ColorPlanes::Linear(p.map(|p| shift_plane(&p, di, dj))),
+        ColorPlanes::Quadratic(q) => ColorPlanes::Quadratic(q.map(|q| shift_quadratic(&q, di, dj))),
+        ColorPlanes::Phong(p) => ColorPlanes::Phong(PhongPlanes {
+            normal: p.normal.map(|n| shift_plane(&n, di, dj)),
+            ..*p
+        }),
+    };
+    Some(TriangleSetup {
+        edges,
+        x0: x0 as u16,
+        y0: y0 as u16,
+        x1: x1 as u16,
+        y1: y1 as u16,
+        depth: shift_plane(&setup.depth, di, dj),
+        dzdx: setup.dzdx,
+        dzdy: setup.dzdy,
+        colors,
+    })
+}
+
+/// The corners of a triangle in the order and the range the triangle setup
+/// uses (inside-positive, clamped to the guard band).
+fn ordered_corners(v: &[SetupVertex; 3]) -> [TestPoint; 3] {
+    let ordered = if signed_area2(v) > 0 {
+        [v[0], v[1], v[2]]
+    } else {
+        [v[0], v[2], v[1]]
+    };
+    let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
+    ordered.map(|p| TestPoint {
+        x: p.x.clamp(-lim, lim),
+        y: p.y.clamp(-lim, lim),
+        z: p.z,
+    })
+}
+
+impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
+    fn width(&self) -> u16 {
+        self.width
+    }
+
+    fn band_height(&self) -> u16 {
+        self.band_height
+    }
+
+    fn begin_band(&mut self, _y0: u16, rows: u16) {
+        self.rows = rows.clamp(1, self.band_height);
+        let n = self.width as usize * self.rows as usize;
+        self.depth[..n].fill(EMPTY_DEPTH);
+    }
+
+    fn draw_triangle(
+        &mut self,
+        vertices: &[SetupVertex; 3],
+        params: &DrawParams,
+        band_y0: u16,
+        band_rows: u16,
+    ) -> Result<(), Rejection> {
+        let setup = TriangleSetup::new(
+            vertices,
+            params.cull_backfaces,
+            params.colors,
+            params.width,
+            params.height,
+        )?;
+        let rows = band_rows.min(self.rows);
+        if rows == 0 {
+            return Ok(());
+        }
+        let root = Piece {
+            corners: ordered_corners(vertices),
+            level: 0,
+        };
+        // Judge every piece before drawing any: a piece's test points must not
+        // see pixels its sibling pieces have just written.
+        let mut log = ActionLog::new();
+        let band = (band_y0, rows);
+        let judged = self.judge_pieces(&setup, root, band, &mut log);
+        if judged.drawn {
+            self.draw_pieces(&setup, root, band, &mut log);
+        } else if judged.culled {
+            self.stats.triangles_culled += 1;
+        }
+        Ok(())
+    }
+
+    #[inline]
+    fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<Mask1x1>) {
+        self.stats.fragments_generated += 1;
+        let p = row as usize * self.width as usize + x as usize;
+        if self.untested {
+            self.depth[p] = fragment.z;
+            self.color[p] = fragment.color;
+            self.stats.fragments_stored += 1;
+            self.stats.untested_writes += 1;
+            self.stats.max_fragments_in_pixel = 1;
+            return;
+        }
+        self.stats.depth_tests += 1;
+        // Ties go to the later fragment, as in the plain z-buffer.
+        if fragment.mask == Mask1x1::FULL && fragment.z <= self.depth[p] {
+            if self.depth[p] != EMPTY_DEPTH {
+                self.stats.fragments_removed_hidden += 1;
+            }
+            self.depth[p] = fragment.z;
+            self.color[p] = fragment.color;
+            self.stats.fragments_stored += 1;
+            self.stats.max_fragments_in_pixel = 1;
+        } else {
+            self.stats.fragments_hidden_on_arrival += 1;
+        }
+    }
+
+    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+        let start = row as usize * self.width as usize;
+        for (x, px) in out.iter_mut().enumerate().take(self.width as usize) {
+            *px = if self.depth[start + x] == EMPTY_DEPTH {
+                background
+            } else {
+                self.color[start + x]
+            };
+        }
+    }
+
+    fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
+        (self.depth[row as usize * self.width as usize + x as usize] != EMPTY_DEPTH) as u32
+    }
+
+    fn stats(&self) -> BufferStats {
+        self.stats
+    }
+
+    fn take_stats(&mut self) -> BufferStats {
+        core::mem::take(&mut self.stats)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::setup::ColorSource;
+    use crate::zbuffer::ZBuffer;
+
+    const W: u16 = 48;
+    const H: u16 = 32;
+
+    fn vertex(x: i32, y: i32, z: u32, c: i32) -> SetupVertex {
+        SetupVertex {
+            x,
+            y,
+            z,
+            color: [c << 8, (255 - c) << 8, 128 << 8],
+        }
+    }
+
+    fn params(colors: ColorSource) -> DrawParams {
+        DrawParams {
+            cull_backfaces: false,
+            colors,
+            width: W,
+            height: H,
+        }
+    }
+
+    /// Draws `triangles` over bands of `band` rows into `buffer`; returns the
+    /// image and the counters.
+    fn draw<B: BandBuffer<Mask1x1>>(
+        buffer: &mut B,
+        triangles: &[[SetupVertex; 3]],
+        colors: ColorSource,
+        band: u16,
+    ) -> (Vec<Rgb888>, BufferStats) {
+        let bg = Rgb888::new(1, 2, 3);
+        let mut image = Vec::new();
+        let mut line = vec![bg; W as usize];
+        let mut y0 = 0;
+        while y0 < H {
+            let rows = band.min(H - y0);
+            buffer.begin_band(y0, rows);
+            for t in triangles {
+                let _ = buffer.draw_triangle(t, &params(colors), y0, rows);
+            }
+            for row in 0..rows {
+                buffer.resolve_row(row, bg, &mut line);
+                image.extend_from_slice(&line);
+            }
+            y0 += rows;
+        }
+        (image, buffer.take_stats())
+    }
+
+    fn plain(
+        triangles: &[[SetupVertex; 3]],
+        colors: ColorSource,
+        band: u16,
+    ) -> (Vec<Rgb888>, BufferStats) {
+        let n = W as usize * band as usize;
+        let (mut d, mut c) = (vec![0; n], vec![Rgb888::new(0, 0, 0); n]);
+        draw(
+            &mut ZBuffer::new(W, band, &mut d, &mut c).unwrap(),
+            triangles,
+            colors,
+            band,
+        )
+    }
+
+    fn midpoint(
+        triangles: &[[SetupVertex; 3]],
+        colors: ColorSource,
+        band: u16,
+        config: MidpointConfig,
+    ) -> (Vec<Rgb888>, BufferStats, usize) {
+        midpoint_merging(triangles, colors, band, config, true)
+    }
+
+    /// As [`midpoint`]; `merge: false` draws every piece on its own.
+    fn midpoint_merging(
+        triangles: &[[SetupVertex; 3]],
+        colors: ColorSource,
+        band: u16,
+        config: MidpointConfig,
+        merge: bool,
+    ) -> (Vec<Rgb888>, BufferStats, usize) {
+        let n = W as usize * band as usize;
+        let (mut d, mut c) = (vec![0; n], vec![Rgb888::new(0, 0, 0); n]);
+        let mut buffer = MidpointZBuffer::new(W, band, &mut d, &mut c, config).unwrap();
+        buffer.merge_agreeing_pieces = merge;
+        let (image, stats) = draw(&mut buffer, triangles, colors, band);
+        (image, stats, buffer.stack_peak())
+    }
+
+    fn random_triangles(seed: u32, n: usize) -> Vec<[SetupVertex; 3]> {
+        let mut rng = Rng(seed);
+        (0..n)
+            .map(|_| {
+                [0, 1, 2].map(|_| {
+                    vertex(
+                        rng.below((W as i32 + 16) * 16) - 128,
+                        rng.below((H as i32 + 16) * 16) - 128,
+                        1000 + rng.below(1 << 20) as u32,
+                        rng.below(256),
+                    )
+                })
+            })
+            .collect()
+    }
+
+    #[test]
+    fn drawing_agreeing_pieces_together_changes_nothing() {
+        let triangles = random_triangles(77, 40);
+        for k in 0..=3 {
+            for safe in [false, true] {
+                for band in [H, 16, 5] {
+                    let config = MidpointConfig {
+                        initial_subdivisions: k,
+                        max_depth: k + 2,
+                        test_visible_pixels: safe,
+                    };
+                    let colors = ColorSource::Linear;
+                    let (a, sa, _) = midpoint_merging(&triangles, colors, band, config, true);
+                    let (b, sb, _) = midpoint_merging(&triangles, colors, band, config, false);
+                    assert!(a == b, "K = {k}, safe {safe}, band {band}");
+                    assert_eq!(sa, sb, "K = {k}, safe {safe}, band {band}");
+                }
+            }
+        }
+    }
+
+    struct Rng(u32);
+
+    impl Rng {
+        fn below(&mut self, n: i32) -> i32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 17;
+            self.0 ^= self.0 << 5;
+            (self.0 % n as u32) as i32
+        }
+    }
+
+    #[test]
+    fn pieces_cover_a_triangle_exactly_once() {
+        // One triangle on an empty buffer: every piece is judged visible, so the
+        // pieces' pixels are written (untested unless a test point is off
+        // screen). They must be exactly the
+        // triangle's pixels, each once, with the triangle's depth and colors.
+        let mut rng = Rng(0x9e37_79b9);
+        for i in 0..300 {
+            let mut p = || {
+                vertex(
+                    rng.below((W as i32 + 16) * 16) - 128,
+                    rng.below((H as i32 + 16) * 16) - 128,
+                    1000 + rng.below(1 << 20) as u32,
+                    rng.below(256),
+                )
+            };
+            let t = [p(), p(), p()];
+            for colors in [
+                ColorSource::Linear,
+                ColorSource::Constant(Rgb888::new(9, 8, 7)),
+            ] {
+                let (expected, expected_stats) = plain(&[t], colors, H);
+                for k in 0..=5 {
+                    let config = MidpointConfig {
+                        initial_subdivisions: k,
+                        max_depth: k,
+                        test_visible_pixels: false,
+                    };
+                    // Every piece drawn on its own.
+                    let (image, stats, _) = midpoint_merging(&[t], colors, H, config, false);
+                    assert!(image == expected, "triangle {i} {t:?}, K = {k}");
+                    assert_eq!(stats.fragments_stored, expected_stats.fragments_stored);
+                    // Pieces with a test point off screen are drawn with tests.
+                    let tested = stats.fragments_stored - stats.untested_writes;
+                    assert_eq!(stats.depth_tests, tested);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn stack_never_overflows() {
+        let big = [
+            vertex(-200, -200, 5000, 0),
+            vertex(900, 10, 5000, 0),
+            vertex(40, 600, 5000, 0),
+        ];
+        // A nearer triangle covering part of it, drawn first, keeps pieces undecided.
+        let near = [
+            vertex(0, 0, 100, 200),
+            vertex(500, 0, 100, 200),
+            vertex(0, 300, 100, 200),
+        ];
+        let colors = ColorSource::Linear;
+        for k in 0..=MAX_SUBDIVISION_DEPTH {
+            for band in [H, 16, 5] {
+                let config = MidpointConfig {
+                    initial_subdivisions: k,
+                    max_depth: MAX_SUBDIVISION_DEPTH,
+                    test_visible_pixels: false,
+                };
+                for merge in [true, false] {
+                    let (_, stats, peak) =
+                        midpoint_merging(&[near, big], colors, band, config, merge);
+                    assert!(peak <= STACK_CAPACITY, "K = {k}, band {band}: {peak}");
+                    assert!(stats.pieces_culled > 0);
+                }
+            }
+        }
+        // Splitting to the deepest level fills the stack exactly.
+        let deepest = MidpointConfig {
+            initial_subdivisions: MAX_SUBDIVISION_DEPTH,
+            max_depth: MAX_SUBDIVISION_DEPTH,
+            test_visible_pixels: false,
+        };
+        let (image, _, peak) = midpoint_merging(&[big], colors, H, deepest, false);
+        assert_eq!(peak, STACK_CAPACITY);
+        assert!(image == plain(&[big], colors, H).0);
+        assert!(!MidpointConfig {
+            initial_subdivisions: 3,
+            max_depth: 2,
+            ..deepest
+        }
+        .is_valid());
+        assert!(!MidpointConfig {
+            max_depth: MAX_SUBDIVISION_DEPTH + 1,
+            ..deepest
+        }
+        .is_valid());
+        let mut d = vec![0; W as usize];
+        let mut c = vec![Rgb888::new(0, 0, 0); W as usize];
+        assert!(MidpointZBuffer::new(
+            W,
+            1,
+            &mut d,
+            &mut c,
+            MidpointConfig {
+                max_depth: 9,
+                ..deepest
+            }
+        )
+        .is_none());
+    }
+
+    #[test]
+    fn hidden_triangle_is_culled_whole() {
+        let occluder = [
+            vertex(-64, -64, 100, 0),
+            vertex(2000, -64, 100, 0),
+            vertex(-64, 2000, 100, 0),
+        ];
+        // Rows 2 to 12: within the first band of 16 rows.
+        let behind = [
+            vertex(50, 40, 9000, 99),
+            vertex(400, 60, 9000, 99),
+            vertex(90, 200, 9000, 99),
+        ];
+        let colors = ColorSource::Linear;
+        for band in [H, 16] {
+            let (only_occluder, occluder_stats, _) =
+                midpoint(&[occluder], colors, band, MidpointConfig::DEFAULT);
+            let (image, stats, _) =
+                midpoint(&[occluder, behind], colors, band, MidpointConfig::DEFAULT);
+            assert!(image == plain(&[occluder, behind], colors, band).0);
+            assert!(image == only_occluder);
+            assert_eq!(stats.triangles_culled, 1, "band {band}");
+            // Nothing of the hidden triangle was rasterized.
+            assert_eq!(
+                stats.fragments_generated,
+                occluder_stats.fragments_generated
+            );
+            assert_eq!(stats.depth_tests, occluder_stats.depth_tests);
+            assert!(stats.culling_depth_tests > occluder_stats.culling_depth_tests);
+        }
+    }
+
+    #[test]
+    fn points_outside_the_band_are_undecided() {
+        // A triangle over three bands of 8 rows, no subdivision allowed: its test
+        // points are never all in one band, so it is rasterized with tests.
+        let t = [
+            vertex(16, 16, 500, 0),
+            vertex(600, 40, 500, 0),
+            vertex(80, 460, 500, 0),
+        ];
+        let config = MidpointConfig {
+            initial_subdivisions: 0,
+            max_depth: 0,
+            test_visible_pixels: false,
+        };
+        let (image, stats, _) = midpoint(&[t], ColorSource::Linear, 8, config);
+        assert!(image == plain(&[t], ColorSource::Linear, 8).0);
+        assert_eq!(stats.untested_writes, 0);
+        assert_eq!(stats.culling_depth_tests, 0);
+        assert_eq!(stats.depth_tests, stats.fragments_stored);
+    }
+
+    #[test]
+    fn visible_verdict_can_be_wrong_and_safe_mode_repairs_it() {
+        // A near sliver drawn first, then a far triangle whose four test points
+        // all miss the sliver: judged visible, written over it untested.
+        let sliver = [
+            vertex(300, 0, 100, 250),
+            vertex(340, 0, 100, 250),
+            vertex(320, 500, 100, 250),
+        ];
+        let far = [
+            vertex(0, 100, 8000, 0),
+            vertex(760, 100, 8000, 0),
+            vertex(380, 500, 8000, 0),
+        ];
+        let colors = ColorSource::Linear;
+        let config = MidpointConfig {
+            initial_subdivisions: 0,
+            max_depth: 0,
+            test_visible_pixels: false,
+        };
+        let expected = plain(&[sliver, far], colors, H).0;
+        let (image, stats, _) = midpoint(&[sliver, far], colors, H, config);
+        assert!(image != expected);
+        assert_eq!(stats.depth_tests, 0);
+        let safe = MidpointConfig {
+            test_visible_pixels: true,
+            ..config
+        };
+        assert!(midpoint(&[sliver, far], colors, H, safe).0 == expected);
+    }
+}
