@@ -26,6 +26,9 @@ pub struct BenchArgs {
         value_delimiter = ','
     )]
     pub methods: Vec<String>,
+    /// `N_fixed` for the fixed methods.
+    #[arg(long, default_value_t = 3)]
+    pub fixed: u8,
     /// Also print the per-stage profile of each run (a separate, instrumented build).
     #[arg(long)]
     pub profile: bool,
@@ -51,6 +54,7 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
                 scene: scene.clone(),
                 frames: args.frames,
                 method: method.clone(),
+                fixed: args.fixed,
                 ..FirmwareConfig::default()
             };
             let work = dir.join(format!("{}-{method}", scene.replace(['/', ':', '.'], "_")));
