@@ -205,7 +205,7 @@ impl<'a> HierarchicalZBuffer<'a> {
 
 /// The depth the rasterizer gives `setup`'s fragment at pixel `(x, y)` of the image.
 #[inline]
-pub(crate) fn depth_at(setup: &TriangleSetup, x: u16, y: u16) -> u32 {
+fn depth_at(setup: &TriangleSetup, x: u16, y: u16) -> u32 {
     let z = setup.depth.origin
         + (x as i64 - setup.x0 as i64) * setup.depth.dx
         + (y as i64 - setup.y0 as i64) * setup.depth.dy;

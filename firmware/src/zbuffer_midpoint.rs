@@ -19,9 +19,13 @@
 //! Every piece of a triangle is judged before any is drawn: the pieces share
 //! corners, and a corner's pixel written by one piece would otherwise make its
 //! neighbors look hidden behind their own triangle. The first walk logs one
-//! action per judged piece (two bits each, at most [`MAX_JUDGED_PIECES`]); the
-//! second walk replays the log and draws, without reading the depth buffer
-//! except for the per-pixel tests of pieces drawn with tests.
+//! action per piece (two bits each, at most [`MAX_JUDGED_PIECES`]); the second
+//! walk replays the log and draws, without reading the depth buffer except for
+//! the per-pixel tests of pieces drawn with tests. When the three pieces of a
+//! piece all end alike, the piece is drawn whole instead (the same pixels, the
+//! same writes and tests). A drawn piece is walked in strips of rows over the
+//! columns it reaches, since the pieces are often slivers with mostly empty
+//! bounding boxes.
 //!
 //! The verdicts are guesses: a nearer surface, or a gap between surfaces, that
 //! falls between the four test points goes unseen. That is the method as
@@ -52,9 +56,9 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 /// The deepest subdivision accepted (`3^6 = 729` pieces per triangle at most).
 pub const MAX_SUBDIVISION_DEPTH: u8 = 6;
 
-/// Pieces the subdivision stack holds: a depth-first walk that replaces one
-/// piece by three keeps at most two waiting siblings per level, plus the three
-/// just pushed.
+/// Pieces the drawing walk's stack holds: a depth-first walk that replaces
+/// one piece by three keeps at most two waiting siblings per level, plus the
+/// three just pushed. (The judging walk keeps one piece per level.)
 pub const STACK_CAPACITY: usize = 2 * MAX_SUBDIVISION_DEPTH as usize + 1;
 
 /// Most pieces of one triangle that can be judged: every node of a full
@@ -76,8 +80,9 @@ pub struct MidpointConfig {
 }
 
 impl MidpointConfig {
-    /// The published setting: two initial subdivisions, down to four levels,
-    /// visible pieces written untested.
+    /// Two initial subdivisions and visible pieces written untested, as
+    /// published; the depth limit of four levels is ours (the publication
+    /// gives none).
     pub const DEFAULT: Self = Self {
         initial_subdivisions: 2,
         max_depth: 4,
@@ -321,14 +326,15 @@ impl<'a> MidpointZBuffer<'a> {
     }
 
     /// Compares the piece's corners and centroid with the depth buffer.
-    fn judge(&mut self, piece: &Piece, band_y0: u16) -> Verdict {
+    fn judge(&mut self, piece: &Piece, band: (u16, u16)) -> Verdict {
+        let (band_y0, rows) = band;
         let [a, b, c] = piece.corners;
         let points = [a, b, c, piece.centroid()];
         let mut index = [0usize; 4];
         for (slot, p) in index.iter_mut().zip(&points) {
             let (px, py) = (p.x >> SUBPIXEL_BITS, p.y >> SUBPIXEL_BITS);
             let row = py - band_y0 as i32;
-            if px < 0 || px >= self.width as i32 || row < 0 || row >= self.rows as i32 {
+            if px < 0 || px >= self.width as i32 || row < 0 || row >= rows as i32 {
                 // Not in the band: nothing to compare with.
                 return Verdict::Undecided;
             }
@@ -356,12 +362,12 @@ impl<'a> MidpointZBuffer<'a> {
 
     /// The action for `piece` (in the band) while judging: forced splits
     /// above level `K`, then the verdict of its test points.
-    fn decide(&mut self, piece: &Piece, band_y0: u16) -> Action {
+    fn decide(&mut self, piece: &Piece, band: (u16, u16)) -> Action {
         let config = self.config;
         let action = if piece.level < config.initial_subdivisions {
             Action::Split
         } else {
-            match self.judge(piece, band_y0) {
+            match self.judge(piece, band) {
                 Verdict::Hidden => {
                     self.stats.pieces_culled += 1;
                     Action::Skip
@@ -410,7 +416,7 @@ impl<'a> MidpointZBuffer<'a> {
             let mut finished = None;
             if let Some(piece) = next.take() {
                 if piece_in_band(setup, &piece, band_y0, band_last) {
-                    let action = self.decide(&piece, band_y0);
+                    let action = self.decide(&piece, band);
                     let slot = log.push(action);
                     match action {
                         Action::Split => {
@@ -521,8 +527,28 @@ impl<'a> MidpointZBuffer<'a> {
         self.untested = untested;
         if piece.level == 0 {
             rasterize(setup, band_y0, band_rows, self);
-        } else if let Some(part) = piece_setup(setup, piece) {
-            rasterize(&part, band_y0, band_rows, self);
+        } else {
+            // Pieces are often slivers whose bounding box is mostly empty:
+            // walk them in strips of rows, each over the columns the piece
+            // reaches within it.
+            let band_last = band_y0 as i64 + band_rows as i64 - 1;
+            let ys = piece.corners.map(|p| p.y as i64 >> SUBPIXEL_BITS);
+            let top = ys.iter().copied().min().unwrap_or(0);
+            let bottom = ys.iter().copied().max().unwrap_or(0);
+            let mut y0 = top.max(setup.y0 as i64).max(band_y0 as i64);
+            let y_end = bottom.min(setup.y1 as i64).min(band_last);
+            while y0 <= y_end {
+                let y1 = (y0 + STRIP_ROWS - 1).min(y_end);
+                if let Some((x0, x1)) = columns_in_rows(piece, y0, y1) {
+                    let x0 = x0.max(setup.x0 as i64);
+                    let x1 = x1.min(setup.x1 as i64);
+                    if x0 <= x1 {
+                        let part = piece_setup(setup, piece, (x0, x1), (y0, y1));
+                        rasterize(&part, band_y0, band_rows, self);
+                    }
+                }
+                y0 = y1 + 1;
+            }
         }
         self.untested = false;
     }
@@ -570,20 +596,56 @@ fn shift_quadratic(q: &QuadraticPolynomial, di: i64, dj: i64) -> QuadraticPolyno
     }
 }
 
-/// The setup of `piece`: its own edges and box, `setup`'s depth and colors
-/// moved to the box's first pixel. `None` when the box misses `setup`'s.
-fn piece_setup(setup: &TriangleSetup, piece: &Piece) -> Option<TriangleSetup> {
+/// Rows of a strip when a piece is rasterized strip by strip.
+const STRIP_ROWS: i64 = 8;
+
+/// Pixel columns (a conservative range) where `piece` may cover pixel
+/// centers of rows `y0 ..= y1`, or `None` when it misses those rows.
+///
+/// The piece cut to the rows' horizontal slab is a convex polygon whose
+/// corners are the piece's corners within the slab and its edges' crossings
+/// of the slab's two borders.
+fn columns_in_rows(piece: &Piece, y0: i64, y1: i64) -> Option<(i64, i64)> {
+    let top = y0 << SUBPIXEL_BITS;
+    let bottom = (y1 << SUBPIXEL_BITS) + (1 << SUBPIXEL_BITS) - 1;
+    let (mut lo, mut hi) = (i64::MAX, i64::MIN);
+    let c = piece.corners.map(|p| (p.x as i64, p.y as i64));
+    for i in 0..3 {
+        let (xa, ya) = c[i];
+        let (xb, yb) = c[(i + 1) % 3];
+        if (top..=bottom).contains(&ya) {
+            lo = lo.min(xa);
+            hi = hi.max(xa);
+        }
+        if ya == yb {
+            continue;
+        }
+        for border in [top, bottom] {
+            if (ya.min(yb)..=ya.max(yb)).contains(&border) {
+                // The crossing, rounded down and up (divisor made positive).
+                let (num, den) = ((xb - xa) * (border - ya), yb - ya);
+                let (num, den) = if den < 0 { (-num, -den) } else { (num, den) };
+                let x = xa + num.div_euclid(den);
+                lo = lo.min(x);
+                hi = hi.max(x + 1);
+            }
+        }
+    }
+    (lo <= hi).then_some((lo >> SUBPIXEL_BITS, hi >> SUBPIXEL_BITS))
+}
+
+/// The setup of `piece` over the pixel box `columns` x `rows` (within
+/// `setup`'s box): its own edges, `setup`'s depth and colors moved to the
+/// box's first pixel.
+fn piece_setup(
+    setup: &TriangleSetup,
+    piece: &Piece,
+    columns: (i64, i64),
+    rows: (i64, i64),
+) -> TriangleSetup {
     let xs = piece.corners.map(|p| p.x as i64);
     let ys = piece.corners.map(|p| p.y as i64);
-    let lo = |v: &[i64; 3]| v.iter().copied().min().unwrap_or(0) >> SUBPIXEL_BITS;
-    let hi = |v: &[i64; 3]| v.iter().copied().max().unwrap_or(0) >> SUBPIXEL_BITS;
-    let x0 = lo(&xs).max(setup.x0 as i64);
-    let x1 = hi(&xs).min(setup.x1 as i64);
-    let y0 = lo(&ys).max(setup.y0 as i64);
-    let y1 = hi(&ys).min(setup.y1 as i64);
-    if x0 > x1 || y0 > y1 {
-        return None;
-    }
+    let ((x0, x1), (y0, y1)) = (columns, rows);
     // Edge functions exactly as the triangle setup builds them (top-left rule).
     let half = 1i64 << (SUBPIXEL_BITS - 1);
     let cx = (x0 << SUBPIXEL_BITS) + half;
@@ -611,7 +673,7 @@ fn piece_setup(setup: &TriangleSetup, piece: &Piece) -> Option<TriangleSetup> {
             ..*p
         }),
     };
-    Some(TriangleSetup {
+    TriangleSetup {
         edges,
         x0: x0 as u16,
         y0: y0 as u16,
@@ -621,7 +683,7 @@ fn piece_setup(setup: &TriangleSetup, piece: &Piece) -> Option<TriangleSetup> {
         dzdx: setup.dzdx,
         dzdy: setup.dzdy,
         colors,
-    })
+    }
 }
 
 /// The corners of a triangle in the order and the range the triangle setup
@@ -919,6 +981,43 @@ mod tests {
                     let tested = stats.fragments_stored - stats.untested_writes;
                     assert_eq!(stats.depth_tests, tested);
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn shifted_planes_give_the_same_values_at_the_same_pixels() {
+        use crate::shading::{ColorWalk, QuadraticWalk};
+        let mut rng = Rng(0x5eed);
+        for _ in 0..200 {
+            let mut c = || rng.below(1 << 20) as i64 - (1 << 19);
+            let q = QuadraticPolynomial {
+                a: c(),
+                b: c(),
+                c: c(),
+                d: c() << 6,
+                e: c() << 6,
+                f: c() << 12,
+            };
+            let p = Plane {
+                origin: c() << 10,
+                dx: c(),
+                dy: c(),
+            };
+            let (di, dj) = (rng.below(40) as i64, rng.below(30) as i64);
+            let (sq, sp) = (shift_quadratic(&q, di, dj), shift_plane(&p, di, dj));
+            // Walk a few rows and columns of the shifted box with additions.
+            let mut walk = QuadraticWalk::start(&[sq; 3], 0);
+            for j in 0..5 {
+                let mut row = walk.row();
+                for i in 0..7 {
+                    assert_eq!(row.value[0], q.eval(di + i, dj + j));
+                    assert_eq!(sq.eval(i, j), q.eval(di + i, dj + j));
+                    let direct = p.origin + (di + i) * p.dx + (dj + j) * p.dy;
+                    assert_eq!(sp.origin + i * sp.dx + j * sp.dy, direct);
+                    walk.step(&mut row);
+                }
+                walk.next_row();
             }
         }
     }
