@@ -16,9 +16,10 @@ pub const MAX_CLIPPED_VERTICES: usize = 9;
 /// A vertex in scaled clip space with the attributes interpolated along with it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ClipVertex {
-    /// `[X, Y, Zs, w]`.
+    /// `[X, Y, Zs, w]`: below 2^61 in magnitude from the transform; at most 2^38
+    /// once [`clip_triangle`] has shifted the triangle, and so in its output.
     pub clip: [i64; 4],
-    /// Color, Q8.
+    /// Color, Q8, `0 ..= 255 * 256` (interpolation stays between two such).
     pub color: ColorQ8,
     /// Eye-space normal, Q2.14 (zero when the shading does not use it); no
     /// longer unit length after interpolation.
@@ -75,6 +76,21 @@ pub fn clip_triangle(tri: &[ClipVertex; 3], outcode_union: u8) -> ClippedPolygon
         len: 3,
     };
     poly.vertices[..3].copy_from_slice(tri);
+    // Clip-space components reach 2^61 (see `ClipTransform`): a guard-band
+    // distance (`4096 w + x`) would then need 74 bits, and an interpolation
+    // product `(b - a) * distance` more than 128. One right shift common to the
+    // three vertices brings every component to at most 2^38, so distances stay below
+    // 2^51 and products below 2^91. Scaling all vertices alike moves nothing:
+    // clip space is homogeneous, and the interpolation weights are ratios of
+    // distances.
+    let largest = tri
+        .iter()
+        .flat_map(|v| v.clip.iter())
+        .fold(0u64, |m, c| m | c.unsigned_abs());
+    let excess = (64 - largest.leading_zeros()).saturating_sub(38);
+    for v in &mut poly.vertices[..3] {
+        v.clip = v.clip.map(|c| c >> excess);
+    }
     let mut scratch = [ClipVertex::default(); MAX_CLIPPED_VERTICES];
     for plane in 0..6 {
         if outcode_union & (1 << plane) == 0 {

@@ -1,24 +1,56 @@
 //! Fixed-point formats of the pipeline and the integer math they need.
 //!
-//! Every quantity after scene loading is an integer with a stated format:
+//! Every quantity after scene loading is an integer with a stated format and a
+//! stated range, and each range keeps the arithmetic that uses it inside its type.
+//! The table follows a vertex from the scene to the screen; each type's own
+//! documentation repeats its line with the detail, and `tests/tests/ranges.rs`
+//! drives every quantity to its limits with overflow checks on.
 //!
-//! | quantity | type | format | range |
+//! | quantity | type, format | range | why nothing overflows |
 //! |---|---|---|---|
-//! | model and world coordinates | [`Coord`] (`I16F16`) | Q16.16 | ±32768 |
-//! | matrix entries | `i32` | Q16.16 | ±32768 |
-//! | clip-space coordinates `X, Y, Zs, w` | `i64` | Q32.32 | ±2^30 before clipping |
-//! | window coordinates | [`SubPixel`] (`i32`) | Q27.4, 1/16 pixel | ±[`GUARD_BAND_PX`] px after clipping |
-//! | window depth | `u32` | 24 fraction bits, 0 = near | `0 ..= DEPTH_MAX` |
-//! | unit vectors (normals, light) | `i32` | Q2.14 | ±1 |
+//! | model, world and camera coordinates, angles, scales | [`Coord`] (Q16.16) | ±32768 | the type; host scenes are converted with model coordinates within ±16384 and other values within ±32767, NaN refused |
+//! | unit vectors (normals, light) | `i32` / `I2F14` (Q2.14) | components ±2^14, length 1 ± 1/128 | [`crate::scene::Scene::validate`] refuses other normals; the light is normalized per frame |
+//! | composed model-view-projection | `i128`, Q32 | below 2^100 | products of Q30 rotations with Q16.16 values |
+//! | per-object clip transform | [`crate::geometry::ClipTransform`]: `i32` entries, `i64` offsets, one scale per object | entries at most 2^27, offsets at most 2^59 | the scale is chosen from the largest entry and offset |
+//! | clip-space `X, Y, Zs, w` of a vertex | `i64` | below 2^61 | `3 * 2^27 * 2^31 + 2^59` |
+//! | clip tests and the perspective divide | `i64` | at most 2^38 after a shift per vertex; `4096 w` below 2^50 | window coordinates are ratios, a common shift of a vertex changes none |
+//! | clipping a triangle | `i64` components, `i128` distances | at most 2^38 after a shift common to the triangle; distances below 2^51, products below 2^91 | [`crate::clip::clip_triangle`] |
+//! | window coordinates | [`SubPixel`] (Q27.4, 1/16 pixel) | ±2^16 (±[`GUARD_BAND_PX`] px) | clipped to the guard band, clamped by the divide and again by setup |
+//! | window depth | `u32`, 24 fraction bits, 0 = near | `0 ..= DEPTH_MAX` | clamped by the divide |
+//! | vertex colors | [`crate::lighting::ColorQ8`] (Q8) | `0 ..= 255 * 256` | lighting clamps; clipping interpolates between two such |
+//! | edge coefficients `A`, `B` | `i64`, 1/16 pixel | at most 2^17 | differences of two window coordinates |
+//! | edge values at pixels and samples | `i64`, or `i32` when all of a triangle's fit | below 2^36 on screen; within a pixel's margin (below 2^22) per sample | `A x + B y + C` over the guard band; the rasterizer takes `i32` only after bounding every value it will step to |
+//! | depth plane | `i64`, depth x 2^16 per pixel | gradients ±2^40 (saturated), values below 2^59 | gradient times a guard-band distance plus `2^44` |
+//! | fragment depth gradients | `i32` (24 bits stored) | ±[`crate::fragment::GRADIENT_LIMIT`] | saturated by setup, clamped when packed |
+//! | depth at a sample, x 16 | `i32` | below 2^29 | `16 * 2^24 + 2 * 7 * 2^23` |
+//! | visibility difference plane | `i32` | below 2^30 | the difference of two of those |
+//! | Gouraud color planes | `i64`, Q8 x 2^16 | gradients below 2^46, values at on-screen pixels below 2^62.6 | see [`crate::setup::Plane`] |
+//! | quadratic and Phong planes | `i64` | see [`crate::shading`] | the fit falls back to Gouraud planes where its bounds would not hold |
+//! | lighting | `i32`, Q2.14 | coefficients below 8, dot products at most 1 | products below 2^31 |
+//! | merge | `u32` | products below 2^30 | depths differ by less than 2^24, popcounts at most 64 |
+//! | resolve | `u32` | sums below 255 * 64 per channel | at most 64 samples of 8 bits |
+//! | fragments per pixel, pool slots | `u8` counts, pool addresses | at most 255, at most the address type's pool | checked when a [`crate::fragment_buffer::FragmentBuffer`] is built |
 //!
 //! Window coordinates are snapped to 1/16 pixel. Sample offsets of every supported
 //! coverage grid (4x4, 8x4, 8x8) are odd multiples of 1/16 or 1/8 pixel, so every
 //! sample position is exact and edge functions at samples are exact integers.
 
-/// Model and world coordinates: Q16.16.
+/// Model and world coordinates: Q16.16, range ±32768 with steps of 2^-16.
+///
+/// Also the camera, the light's coefficients, placements, angles and the
+/// turntable. Every use widens first: positions are multiplied by 32-bit matrix
+/// entries in `i64` ([`crate::geometry::ObjectTransform::to_clip`]), everything
+/// else is composed in `i128`. The host's conversion keeps model coordinates
+/// within ±16384 and refuses NaN and values beyond ±32767; the device API may
+/// use the whole range.
 pub type Coord = fixed::types::I16F16;
 
 /// Window coordinates in 1/16 pixel (Q27.4).
+///
+/// Range: ±2^16, that is ±[`GUARD_BAND_PX`] pixels. Vertices outside the guard
+/// band are clipped in clip space, the perspective divide clamps its result to
+/// the band, and triangle setup clamps again, so every product of two window
+/// coordinates (edge functions, areas) is below 2^35.
 pub type SubPixel = i32;
 
 /// Fraction bits of [`SubPixel`].
@@ -32,12 +64,16 @@ pub const GUARD_BAND_PX: i32 = 4096;
 
 /// Fraction bits of window depth.
 pub const DEPTH_BITS: u32 = 24;
-/// The largest window depth (the far plane).
+/// The largest window depth (the far plane). Depths are `0 ..= DEPTH_MAX` from
+/// the perspective divide on (it clamps), so differences of two fit 25 bits and
+/// a depth times 16 (sample depths) fits 28.
 pub const DEPTH_MAX: u32 = (1 << DEPTH_BITS) - 1;
 
 /// Fraction bits of unit vectors (normals, light direction).
 pub const UNIT_BITS: u32 = 14;
-/// 1.0 in unit-vector format.
+/// 1.0 in unit-vector format. Unit vectors have components within
+/// `±UNIT_ONE` (a little more after rounding), so a dot product of two is a sum
+/// of three products below 2^29 and fits `i32`.
 pub const UNIT_ONE: i32 = 1 << UNIT_BITS;
 
 /// Integer square root: the largest `r` with `r * r <= n`.

@@ -90,7 +90,8 @@ impl BufferConfig {
 
 /// The memory a [`FragmentBuffer`] works in.
 pub struct BufferStorage<'a, M: CoverageMask, A: PoolAddress> {
-    /// Fragment count per pixel; length `W R`.
+    /// Fragment count per pixel; length `W R`. At most `N_main + N_extra`, which
+    /// [`FragmentBuffer::new`] keeps within 255.
     pub counts: &'a mut [u8],
     /// Main fragment slots; length `W R N_main`.
     pub main: &'a mut [PackedFragment<M>],

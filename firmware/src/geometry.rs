@@ -143,7 +143,7 @@ fn compose(a: &AffineQ32, b: &AffineQ32) -> AffineQ32 {
 ///
 /// `rows` are 32-bit entries, `offsets` the translation column at the matching
 /// scale: for a Q16 model position `v`, `c_i = sum_j rows[i][j] v_j + offsets[i]`.
-/// Entries stay below 2^27 and offsets below 2^59 in magnitude, so for model
+/// Entries stay within ±2^27 and offsets within ±2^59, so for model
 /// coordinates within the Q16.16 range every `c_i` fits in an `i64`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ClipTransform {
@@ -225,7 +225,7 @@ impl ObjectTransform {
             clip[3][j] = -ze[j];
         }
         clip[2][3] += b;
-        // Common scale: linear entries below 2^27, offsets below 2^59.
+        // Common scale: linear entries within ±2^27, offsets within ±2^59.
         let max_lin = clip
             .iter()
             .flat_map(|r| r[..3].iter())
@@ -255,6 +255,11 @@ impl ObjectTransform {
     }
 
     /// Model-space position to scaled clip space `[X, Y, Zs, w]`.
+    ///
+    /// Range: each component is at most `3 * 2^27 * 2^31 + 2^59 < 2^61` in
+    /// magnitude for any [`Coord`] position (entries within ±2^27, offsets within
+    /// ±2^59), so the three products and the sum fit `i64`. Outcodes and the
+    /// divide shift a vertex down to 38 bits first, clipping shifts a triangle.
     #[inline]
     pub fn to_clip(&self, p: &[Coord; 3]) -> [i64; 4] {
         let v = [
@@ -293,7 +298,8 @@ pub const OUT_TOP: u8 = 16;
 /// Outcode bit: below the guard band.
 pub const OUT_BOTTOM: u8 = 32;
 
-/// Shifts a clip-space vertex right so every component is below 2^38 in magnitude.
+/// Shifts a clip-space vertex right so every component is at most 2^38 in
+/// magnitude (positive ones below it, so `z << 25` in [`project`] fits `i64`).
 /// Window coordinates and clip tests are ratios, so they do not change.
 #[inline]
 fn normalize_clip(c: &[i64; 4]) -> [i64; 4] {

@@ -11,6 +11,10 @@ use crate::scene::Light;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 
 /// A color with 8 fraction bits per channel (value x 256), as vertex colors are kept.
+///
+/// Range: `0 ..= 255 * 256` per channel ([`LightSetup::shade`] clamps, and
+/// clipping interpolates between two such colors), so differences of two fit 17
+/// bits and color planes stay within the bounds given at [`crate::setup::Plane`].
 pub type ColorQ8 = [i32; 3];
 
 /// A color in [`ColorQ8`] form.
@@ -34,6 +38,12 @@ pub fn normalize_unit(v: [i64; 3]) -> Option<[i32; 3]> {
 }
 
 /// The light, prepared for one frame: eye-space direction and half vector.
+///
+/// Ranges: the directions are unit vectors (Q2.14); the coefficients are kept in
+/// `0 .. 8` (Q2.14, below 2^17) and dot products with a unit normal are clamped
+/// to `0 ..= 1` (2^14), so each coefficient times a dot product (or a power of
+/// one) is below 2^31; ambient plus diffuse is below 16 and a channel below
+/// `255 * 16 * 2^8 + 255 * 8 * 2^8 < 2^21` before the clamp to `255 * 256`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LightSetup {
     to_light: [i32; 3],

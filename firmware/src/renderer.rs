@@ -51,11 +51,19 @@ pub struct FrameWorkspace<'a> {
     pub objects: &'a mut [ObjectFrame],
     /// One entry per vertex over all objects.
     pub vertices: &'a mut [ScreenVertex],
-    /// One entry per triangle over all objects: its first row, or a skip mark.
+    /// One entry per triangle over all objects: its first row (below 2048, the
+    /// largest image side), or a skip mark (`u16::MAX`).
     pub triangle_rows: &'a mut [u16],
-    /// One entry per triangle: the visiting order (object << 24 | triangle).
+    /// One entry per triangle: the visiting order (object << 24 | triangle; at
+    /// most 255 objects of at most 2^24 - 1 triangles, else
+    /// [`RenderError::TooManyObjects`]).
+    ///
+    /// Its first entries double as each band's list of active triangles, so a band
+    /// can have every triangle of the scene active: there is no per-band bin to
+    /// overflow, and nothing is dropped however many triangles share a band.
     pub triangle_order: &'a mut [u32],
-    /// `height + 1` entries for the counting sort by first row.
+    /// `height + 1` entries for the counting sort by first row (counts of
+    /// triangles, below 2^32).
     pub row_starts: &'a mut [u32],
     /// `width` colors: the line being resolved.
     pub line: &'a mut [Rgb888],

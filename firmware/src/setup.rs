@@ -23,13 +23,14 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 /// A vertex in window coordinates, ready for setup.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SetupVertex {
-    /// x in 1/16 pixel.
+    /// x in 1/16 pixel, within ±2^16 (the guard band; setup clamps any other
+    /// value to it).
     pub x: i32,
-    /// y in 1/16 pixel (downward).
+    /// y in 1/16 pixel (downward), within ±2^16 like `x`.
     pub y: i32,
-    /// Depth, 24 fraction bits.
+    /// Depth, 24 fraction bits, `0 ..= DEPTH_MAX`.
     pub z: u32,
-    /// Color, Q8 (used by linear shading).
+    /// Color, Q8, `0 ..= 255 * 256` (used by linear shading).
     pub color: ColorQ8,
 }
 
@@ -50,6 +51,13 @@ pub enum ColorSource {
 
 /// One edge function, biased for the top-left rule.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+///
+/// Ranges: `a` and `b` are differences of two clamped window coordinates, at most
+/// 2^17 in magnitude. At any point `p` on the screen `E(p) = a (x_p - x_a) + b
+/// (y_p - y_a)` with both distances below `1.5 * 2^16`, so every edge value the
+/// rasterizer meets (including one step past the bounding box) is below 2^35;
+/// within a pixel's margin (the edge's largest change from the center to a
+/// sample, below `2 * 2^17 * 7 < 2^22`) the per-sample values fit `i32`.
 pub struct Edge {
     /// dE/dx per 1/16 pixel.
     pub a: i64,
@@ -60,6 +68,21 @@ pub struct Edge {
 }
 
 /// A linear function over pixel centers, stepped by additions.
+///
+/// Ranges, by use:
+/// - depth (`depth x 2^16`): gradients saturated to ±2^40 per pixel (a whole
+///   depth range per pixel; steeper triangles are edge-on), so the value at any
+///   on-screen pixel is below `2^44 + 2 * 2^40 * 1.5 * 2^16 < 2^59`;
+/// - Gouraud colors (Q8 x 2^16): a gradient is `2^12 (dc1 dy2 - dc2 dy1) / area2`
+///   with color differences below 2^16, coordinate differences at most 2^17 and
+///   `area2 >= 1`: below 2^46. At an on-screen pixel `p` the value is
+///   `c0 + 2^12 (dc1 (e2 x d) - dc2 (e1 x d)) / area2` with `d` from vertex 0 to
+///   `p`; the two cross products have the same sign (the edges are the sides of a
+///   triangle) and each is below `|e| |d| < 1.5 * 2^34`, and the color
+///   differences cannot be of opposite signs at full size, so the value stays
+///   below 2^62.6, the worst case being a sliver of area 1/512 pixel across the
+///   whole guard band;
+/// - Phong normals: see [`crate::shading::NORMAL_PLANE_BITS`] and its limits.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Plane {
     /// Value at the center of the bounding box's first pixel.
@@ -107,9 +130,11 @@ pub struct TriangleSetup {
     pub x1: u16,
     /// Last pixel row (inclusive).
     pub y1: u16,
-    /// Depth at pixel centers with 16 extra fraction bits (depth units x 2^16).
+    /// Depth at pixel centers with 16 extra fraction bits (depth units x 2^16);
+    /// see [`Plane`] for its range.
     pub depth: Plane,
-    /// Depth gradients as stored in fragments (depth units per pixel).
+    /// Depth gradients as stored in fragments (depth units per pixel), rounded
+    /// and saturated to ±[`GRADIENT_LIMIT`].
     pub dzdx: i32,
     /// See `dzdx`.
     pub dzdy: i32,

@@ -206,6 +206,9 @@ pub struct FirmwareFrameStats {
     pub triangles: u64,
     /// FNV-1a checksum of the frame's bytes.
     pub checksum: u64,
+    /// The stack's high-water mark since reset, in bytes, after this frame (0
+    /// from a firmware that does not report it).
+    pub stack_peak: u64,
 }
 
 /// What a firmware run left behind.
@@ -335,6 +338,8 @@ pub fn run_m4(elf: &Path, workdir: &Path, timeout: Duration) -> Result<FirmwareR
             max_in_pixel: v[10],
             triangles: v[11],
             checksum: v[12],
+            // Columns after the ones above are optional; more are ignored.
+            stack_peak: v.get(13).copied().unwrap_or(0),
         });
     }
     let mut frames = Vec::new();

@@ -7,6 +7,9 @@
 //! Instruction counts come from SysTick on the core clock: under
 //! `qemu-system-arm -icount shift=0` one instruction takes 1 ns of virtual time, and
 //! SysTick ticks at mps2's 25 MHz, so one tick is 40 instructions.
+//!
+//! The stack is painted at reset; after every frame the firmware reports the
+//! stack's high-water mark so far (the last column of `stats.csv`, and the log).
 #![no_std]
 #![no_main]
 
@@ -214,6 +217,31 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
     }
 }
 
+/// The stack's high-water mark since reset and the size the linker reserved for it,
+/// in bytes. The start-up code (cortex-m-rt's `paint-stack`) fills the whole
+/// stack, `_stack_end` up to `_stack_start`, with [`cortex_m_rt::STACK_PAINT_VALUE`];
+/// the lowest word no longer holding it is the deepest the stack has reached.
+fn stack_use() -> (usize, usize) {
+    extern "C" {
+        static _stack_start: u32;
+        static _stack_end: u32;
+    }
+    // SAFETY: only the symbols' addresses are taken, and the words between them
+    // are read with volatile loads: they are RAM the stack owns, below the live
+    // frames when not in use.
+    unsafe {
+        let top = core::ptr::addr_of!(_stack_start) as usize;
+        let mut word = core::ptr::addr_of!(_stack_end);
+        let bottom = word as usize;
+        while (word as usize) < top
+            && core::ptr::read_volatile(word) == cortex_m_rt::STACK_PAINT_VALUE
+        {
+            word = word.add(1);
+        }
+        (top - word as usize, top - bottom)
+    }
+}
+
 fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
     buffer: &mut B,
     ws: &mut FrameWorkspace<'_>,
@@ -290,6 +318,13 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
         let instructions = total * INSTRUCTIONS_PER_TICK;
         let output = sink.ticks * INSTRUCTIONS_PER_TICK;
         let b = &stats.buffer;
+        let (stack_peak, stack_reserved) = stack_use();
+        defmt::info!(
+            "frame {=usize}: stack high-water mark {=usize} of {=usize} bytes reserved",
+            i,
+            stack_peak,
+            stack_reserved
+        );
         defmt::info!(
             "frame {=usize}: {=u64} instructions ({=u64} rendering, {=u64} output), {=u64} fragments, {=u64} merges, pool peak {=u32}, checksum {=u32:#x}",
             i,
@@ -317,6 +352,7 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
                 b.max_fragments_in_pixel as u64,
                 stats.geometry.triangles_in as u64,
                 sink.checksum as u64,
+                stack_peak as u64,
             ],
         );
     }
@@ -348,7 +384,7 @@ fn main() -> ! {
         None => fail("cannot open stats.csv on the host"),
     };
     let _ = stats_file.write_all(
-        b"frame,instructions,output_instructions,generated,stored,hidden_on_arrival,removed_hidden,merges,discarded,pool_peak,max_in_pixel,triangles,checksum\n",
+        b"frame,instructions,output_instructions,generated,stored,hidden_on_arrival,removed_hidden,merges,discarded,pool_peak,max_in_pixel,triangles,checksum,stack_peak\n",
     );
 
     struct Frames<'f> {

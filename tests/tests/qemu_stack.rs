@@ -1,0 +1,126 @@
+//! The M4 firmware under QEMU on the extreme scene (`tests/data/extreme.toml`: the
+//! camera inside a closed box, depth complexity 1,000, triangles a million pixels
+//! wide, slivers and degenerate triangles, a plane through the near plane, every
+//! shading mode), at 64 x 64 pixels so a frame takes seconds:
+//!
+//! - the frames equal host-sim's, bit for bit, and so do the statistics;
+//! - the stack's high-water mark (the firmware paints the stack at reset and
+//!   reports the mark after every frame) is below the stack the linker reserved
+//!   (`_stack_end` up to `_stack_start`, read from the ELF) with a quarter of the
+//!   mark to spare, and at least 1 KiB below the reserve the build script keeps
+//!   free in any configuration it accepts (`FIRMWARE_STACK_RESERVE`, 8 KiB by
+//!   default). The mark was 6,684 bytes here (6,924 at 240 pixels, where the
+//!   output line on the stack is longer); docs/robustness.md has the figures.
+//!
+//! Needs `qemu-system-arm` and the `thumbv7em-none-eabihf` target (the test
+//! command installs both).
+
+use host_sim::convert::to_fixed;
+use host_sim::qemu::{build_m4, repo_root, run_m4, FirmwareConfig};
+use host_sim::render::{render, RenderConfig};
+use host_sim::scene_file::load_scene_file;
+use std::time::Duration;
+
+/// The stack the build script keeps free by default (`FIRMWARE_STACK_RESERVE`).
+const BUILD_STACK_RESERVE: u64 = 8192;
+
+/// The value of symbol `name` in a 32-bit little-endian ELF file.
+fn elf_symbol(elf: &[u8], name: &str) -> Option<u32> {
+    let u16_at = |o: usize| u16::from_le_bytes([elf[o], elf[o + 1]]) as usize;
+    let u32_at = |o: usize| u32::from_le_bytes([elf[o], elf[o + 1], elf[o + 2], elf[o + 3]]);
+    if elf.get(..6)? != b"\x7fELF\x01\x01" {
+        return None;
+    }
+    let (shoff, shentsize, shnum) = (u32_at(0x20) as usize, u16_at(0x2E), u16_at(0x30));
+    let section = |i: usize| shoff + i * shentsize;
+    for i in 0..shnum {
+        let sh = section(i);
+        if u32_at(sh + 4) != 2 {
+            continue; // not SHT_SYMTAB
+        }
+        let (offset, size, entsize) = (
+            u32_at(sh + 16) as usize,
+            u32_at(sh + 20) as usize,
+            u32_at(sh + 36) as usize,
+        );
+        let strtab = u32_at(section(u32_at(sh + 24) as usize) + 16) as usize;
+        for sym in (offset..offset + size).step_by(entsize.max(16)) {
+            let start = strtab + u32_at(sym) as usize;
+            let end = start + elf[start..].iter().position(|&b| b == 0)?;
+            if &elf[start..end] == name.as_bytes() {
+                return Some(u32_at(sym + 4));
+            }
+        }
+    }
+    None
+}
+
+#[test]
+fn extreme_scene_on_the_m4_matches_the_host_and_its_stack_fits() {
+    // The scene file asks for 64 x 64; the build script takes the size from these.
+    std::env::set_var("FIRMWARE_WIDTH", "64");
+    std::env::set_var("FIRMWARE_HEIGHT", "64");
+    let config = FirmwareConfig {
+        scene: "tests/data/extreme.toml".into(),
+        frames: 2,
+        ..FirmwareConfig::default()
+    };
+    let dir = std::env::temp_dir().join(format!("abuffer-qemu-{}-extreme", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let elf = dir.join("firmware.elf");
+    build_m4(&config, &[], &elf).unwrap_or_else(|e| panic!("firmware build failed: {e}"));
+    let run = run_m4(&elf, &dir, Duration::from_secs(900))
+        .unwrap_or_else(|e| panic!("QEMU run failed: {e}"));
+    assert_eq!(run.frames.len(), 2);
+
+    // Parity with the host.
+    let desc = load_scene_file(&repo_root().join(&config.scene)).unwrap();
+    let scene = to_fixed(&desc).unwrap();
+    assert_eq!((scene.width, scene.height), (64, 64));
+    let host_config = RenderConfig {
+        main: config.main,
+        extra: config.extra,
+        pool: Some(config.pool),
+        band: config.band,
+        ..RenderConfig::default()
+    };
+    for (i, frame) in run.frames.iter().enumerate() {
+        let host = render(&scene, &host_config, config.frame_angle(i as u32)).unwrap();
+        assert!(host.rgb == *frame, "frame {i}: QEMU and host-sim differ");
+        let (s, b) = (&run.stats[i], &host.stats.buffer);
+        assert_eq!(
+            (s.generated, s.stored, s.merges, s.pool_peak),
+            (
+                b.fragments_generated,
+                b.fragments_stored,
+                b.merges,
+                b.pool_peak as u64
+            ),
+            "frame {i}: statistics differ"
+        );
+    }
+    assert!(
+        run.stats[0].generated > 1000 * 64 * 64,
+        "depth complexity 1,000"
+    );
+
+    // The stack.
+    let bytes = std::fs::read(&elf).unwrap();
+    let start = elf_symbol(&bytes, "_stack_start").expect("_stack_start") as u64;
+    let end = elf_symbol(&bytes, "_stack_end").expect("_stack_end") as u64;
+    let reserved = start - end;
+    let peaks: Vec<u64> = run.stats.iter().map(|s| s.stack_peak).collect();
+    assert!(peaks.windows(2).all(|w| w[0] <= w[1]), "{peaks:?}");
+    let peak = *peaks.last().unwrap();
+    println!("stack: high-water mark {peak} bytes, {reserved} reserved by the linker, {BUILD_STACK_RESERVE} kept free by the build");
+    assert!(peak > 0 && peak < reserved, "{peak} of {reserved}");
+    assert!(
+        peak + peak / 4 <= reserved,
+        "stack high-water mark {peak} bytes leaves less than a quarter spare in the {reserved} bytes the linker reserved"
+    );
+    assert!(
+        peak + 1024 <= BUILD_STACK_RESERVE,
+        "stack high-water mark {peak} bytes is within 1 KiB of the {BUILD_STACK_RESERVE}-byte reserve the build keeps free"
+    );
+}
