@@ -3,7 +3,7 @@
 # QEMU), then checks formatting and lints, builds the library for bare-metal
 # targets, and runs the whole suite: host unit and system tests, the QEMU
 # firmware parity and instruction-count tests (Cortex-M4) and the SPI display
-# screendump test (Cortex-M3).
+# screendump test (Cortex-M3), then a short run of every fuzz target.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -35,6 +35,9 @@ cargo build -p mcu-abuffer --release --target thumbv6m-none-eabi
 
 echo "== tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump)"
 cargo test --workspace
+
+echo "== fuzz: 10 s per target from the seed corpus (installs nightly and cargo-fuzz)"
+bash scripts/fuzz.sh 10
 
 echo "== main job: render a built-in scene"
 cargo run --release -p host-sim -- render --scene teapot --out target/teapot.png
