@@ -284,6 +284,9 @@ pub struct LinkReport {
     pub ram: u64,
     /// Stack: `_stack_start - _stack_end`.
     pub stack: u64,
+    /// Flash the image takes: vector table, code, read-only data and the
+    /// initial values of `.data`.
+    pub flash: u64,
 }
 
 /// Reads a cortex-m-rt ELF's RAM use.
@@ -307,6 +310,10 @@ pub fn read_link_report(elf: &Path) -> Result<LinkReport, String> {
         uninit: section(".uninit"),
         ram: stack_start.saturating_sub(ram_origin),
         stack: stack_start.saturating_sub(stack_end),
+        flash: [".vector_table", ".text", ".rodata", ".data"]
+            .iter()
+            .map(|name| section(name))
+            .sum(),
     })
 }
 

@@ -131,26 +131,47 @@ pub fn build_firmware(
 ) -> Result<(), String> {
     let _guard = BUILD_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let root = repo_root();
-    let manifest = root.join("firmware/qemu/Cargo.toml");
-    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    cmd.args([
-        "build",
-        "--release",
-        "--quiet",
+    let mut all_features = vec![target.feature()];
+    all_features.extend_from_slice(features);
+    let features = all_features.join(",");
+    let args = [
         "--no-default-features",
         "--bin",
         target.bin(),
-    ])
-    .args(["--target", target.triple(), "--manifest-path"])
-    .arg(&manifest)
-    .current_dir(root.join("firmware/qemu"));
-    let mut all_features = vec![target.feature()];
-    all_features.extend_from_slice(features);
-    cmd.arg("--features").arg(all_features.join(","));
-    for (k, v) in config.env() {
+        "--target",
+        target.triple(),
+        "--features",
+        &features,
+    ];
+    cargo_build_in(&root.join("firmware/qemu"), &args, &config.env())?;
+    let elf = root
+        .join("firmware/qemu/target")
+        .join(target.triple())
+        .join("release")
+        .join(target.bin());
+    std::fs::copy(&elf, dest).map_err(|e| format!("{}: {e}", elf.display()))?;
+    Ok(())
+}
+
+/// Runs `cargo build --release` in the firmware workspace `dir` with `args` and the
+/// environment `env`, keeping the caller's target folder and flags out of it. A
+/// failure returns the build's error lines (the build scripts' "does not fit"
+/// messages included).
+fn cargo_build_in<K: AsRef<std::ffi::OsStr>>(
+    dir: &Path,
+    args: &[&str],
+    env: &[(K, String)],
+) -> Result<(), String> {
+    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+    cmd.args(["build", "--release", "--quiet"])
+        .args(args)
+        .arg("--manifest-path")
+        .arg(dir.join("Cargo.toml"))
+        .current_dir(dir);
+    for (k, v) in env {
         cmd.env(k, v);
     }
-    // The firmware has its own target folder; keep outer settings out of it.
+    // Each firmware has its own target folder; keep outer settings out of it.
     cmd.env_remove("CARGO_TARGET_DIR")
         .env_remove("RUSTFLAGS")
         .env_remove("CARGO_BUILD_TARGET");
@@ -168,11 +189,16 @@ pub fn build_firmware(
             reason
         });
     }
-    let elf = root
-        .join("firmware/qemu/target")
-        .join(target.triple())
-        .join("release")
-        .join(target.bin());
+    Ok(())
+}
+
+/// Builds the STM32F411 board firmware (`firmware/blackpill`) with the `BOARD_*`
+/// variables in `env` and copies the ELF to `dest`.
+pub fn build_board(env: &[(&str, String)], dest: &Path) -> Result<(), String> {
+    let _guard = BUILD_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = repo_root().join("firmware/blackpill");
+    cargo_build_in(&dir, &["--target", "thumbv7em-none-eabihf"], env)?;
+    let elf = dir.join("target/thumbv7em-none-eabihf/release/blackpill-st7789");
     std::fs::copy(&elf, dest).map_err(|e| format!("{}: {e}", elf.display()))?;
     Ok(())
 }

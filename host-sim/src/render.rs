@@ -251,7 +251,8 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
     }
 }
 
-struct Workspace {
+/// Owned storage of a frame workspace, sized for one scene.
+pub struct Workspace {
     objects: Vec<ObjectFrame>,
     vertices: Vec<ScreenVertex>,
     rows: Vec<u16>,
@@ -261,7 +262,8 @@ struct Workspace {
 }
 
 impl Workspace {
-    fn for_scene(s: &FixedScene) -> Self {
+    /// Storage for `s`: one entry per object, vertex, triangle, row and column.
+    pub fn for_scene(s: &FixedScene) -> Self {
         let nv: usize = s.meshes.iter().map(|m| m.positions.len()).sum();
         let nt = s.triangle_count();
         let empty_object = ObjectFrame {
@@ -285,7 +287,8 @@ impl Workspace {
         }
     }
 
-    fn borrow(&mut self) -> FrameWorkspace<'_> {
+    /// The workspace the renderer takes.
+    pub fn borrow(&mut self) -> FrameWorkspace<'_> {
         FrameWorkspace {
             objects: &mut self.objects,
             vertices: &mut self.vertices,

@@ -5,6 +5,7 @@
 //! use it to bake a scene into flash, and host-sim uses it to load scenes.
 #![warn(missing_docs)]
 
+pub mod bake;
 pub mod builtins;
 pub mod fixed_bits;
 pub mod obj;

@@ -1,0 +1,50 @@
+//! The STM32F411 board firmware (`firmware/blackpill`) builds for
+//! `thumbv7em-none-eabihf` and links within the F411CE's 512 KiB of flash and
+//! 128 KiB of RAM, with the stack the build reserves; a configuration that does not
+//! fit stops the build with the overshoot. (Running it needs the board; the display
+//! path it uses is tested in `board_display.rs`.)
+
+use host_sim::fit::read_link_report;
+use host_sim::qemu::build_board;
+
+const FLASH: u64 = 512 * 1024;
+const RAM: u64 = 128 * 1024;
+const STACK_RESERVE: u64 = 8 * 1024;
+
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("abuffer-board-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn board_firmware_links_within_the_f411() {
+    let elf = scratch("default").join("blackpill-st7789.elf");
+    build_board(&[], &elf).unwrap_or_else(|e| panic!("board build failed: {e}"));
+    let link = read_link_report(&elf).unwrap();
+    let statics = link.data + link.bss + link.uninit;
+    println!(
+        "flash {} of {FLASH}; RAM statics {statics} (.data {} .bss {} .uninit {}), stack {} of {}",
+        link.flash, link.data, link.bss, link.uninit, link.stack, link.ram
+    );
+    // The layout is the top-level memory.x: 128 KiB of RAM from 0x2000_0000.
+    assert_eq!(link.ram, RAM, "not linked with the F411's memory.x");
+    assert!(link.flash > 100 * 1024, "the scenes are missing from flash");
+    assert!(link.flash <= FLASH, "flash {} exceeds {FLASH}", link.flash);
+    assert!(
+        statics + STACK_RESERVE <= RAM,
+        "statics {statics} leave less than 8 KiB of stack"
+    );
+    assert!(link.stack >= STACK_RESERVE);
+}
+
+#[test]
+fn an_oversized_board_configuration_names_the_overshoot() {
+    let elf = scratch("oversized").join("blackpill-st7789.elf");
+    let err = build_board(&[("BOARD_POOL", "4000".to_string())], &elf).unwrap_err();
+    assert!(
+        err.contains("does not fit 131072 bytes by"),
+        "unexpected error: {err}"
+    );
+}
