@@ -3,7 +3,9 @@
 # QEMU), then checks formatting and lints, builds the library for bare-metal
 # targets, and runs the whole suite: host unit and system tests, the QEMU
 # firmware parity and instruction-count tests (Cortex-M4) and the SPI display
-# screendump test (Cortex-M3), then a short run of every fuzz target.
+# screendump test (Cortex-M3), the STM32F411 board firmware's link check and the
+# host test of its display path, checks the board's probe-rs chip name, then runs
+# every fuzz target for a short time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -23,18 +25,23 @@ qemu-system-arm --version | head -n 1
 echo "== format"
 cargo fmt --all -- --check
 cargo fmt --manifest-path firmware/qemu/Cargo.toml -- --check
+cargo fmt --manifest-path firmware/blackpill/Cargo.toml -- --check
 
 echo "== clippy"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi -- -D warnings
+cargo clippy --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
 
 echo "== library for Cortex-M4F and Cortex-M0+"
 cargo build -p mcu-abuffer --release --target thumbv7em-none-eabihf
 cargo build -p mcu-abuffer --release --target thumbv6m-none-eabi
 
-echo "== tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump)"
+echo "== tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump, board link and display path)"
 cargo test --workspace
+
+echo "== board: the runner's chip is one probe-rs knows, with memory.x's flash and RAM (installs probe-rs)"
+bash scripts/check-board-chip.sh
 
 echo "== fuzz: 10 s per target from the seed corpus (installs nightly and cargo-fuzz)"
 bash scripts/fuzz.sh 10

@@ -39,6 +39,7 @@ pub mod scene;
 pub mod setup;
 pub mod shading;
 pub mod sink;
+pub mod stack;
 pub mod stats;
 pub mod visibility;
 pub mod zbuffer;

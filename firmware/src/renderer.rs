@@ -34,6 +34,17 @@ pub struct ScreenVertex {
     pub outcode: u8,
 }
 
+impl ScreenVertex {
+    /// All zero: the initial value of workspace arrays (`static` arrays included).
+    pub const EMPTY: Self = Self {
+        x: 0,
+        y: 0,
+        z: 0,
+        color: [0; 3],
+        outcode: 0,
+    };
+}
+
 /// Per-object state of the current frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ObjectFrame {
@@ -43,6 +54,22 @@ pub struct ObjectFrame {
     pub vertex_base: u32,
     /// Index of the object's first triangle over all objects.
     pub triangle_base: u32,
+}
+
+impl ObjectFrame {
+    /// All zero: the initial value of workspace arrays (`static` arrays included);
+    /// every frame overwrites it.
+    pub const EMPTY: Self = Self {
+        transform: ObjectTransform {
+            clip: crate::geometry::ClipTransform {
+                rows: [[0; 3]; 4],
+                offsets: [0; 4],
+            },
+            normal: [[0; 3]; 3],
+        },
+        vertex_base: 0,
+        triangle_base: 0,
+    };
 }
 
 /// Working memory of a frame, borrowed from the caller (static arrays on a device).

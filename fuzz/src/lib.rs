@@ -24,7 +24,6 @@ use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::{Coord, DEPTH_MAX};
 use mcu_abuffer::fragment::{Fragment, PackedFragment};
 use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
-use mcu_abuffer::geometry::{ClipTransform, ObjectTransform};
 use mcu_abuffer::renderer::{
     render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
 };
@@ -540,17 +539,7 @@ struct Workspace {
 
 impl Workspace {
     fn new(scene: &Scene<'_>) -> Self {
-        let empty = ObjectFrame {
-            transform: ObjectTransform {
-                clip: ClipTransform {
-                    rows: [[0; 3]; 4],
-                    offsets: [0; 4],
-                },
-                normal: [[0; 3]; 3],
-            },
-            vertex_base: 0,
-            triangle_base: 0,
-        };
+        let empty = ObjectFrame::EMPTY;
         Self {
             objects: vec![empty; scene.objects.len()],
             vertices: vec![ScreenVertex::default(); scene.vertex_count()],

@@ -29,6 +29,12 @@ pub struct BenchArgs {
     /// `N_fixed` for the fixed methods.
     #[arg(long, default_value_t = 3)]
     pub fixed: u8,
+    /// Rows per band.
+    #[arg(long, default_value_t = 8)]
+    pub band: u16,
+    /// Shared pool slots per band (shared and merge-closest).
+    #[arg(long, default_value_t = 512)]
+    pub pool: usize,
     /// Also print the per-stage profile of each run (a separate, instrumented build).
     #[arg(long)]
     pub profile: bool,
@@ -55,6 +61,8 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
                 frames: args.frames,
                 method: method.clone(),
                 fixed: args.fixed,
+                band: args.band,
+                pool: args.pool,
                 ..FirmwareConfig::default()
             };
             let work = dir.join(format!("{}-{method}", scene.replace(['/', ':', '.'], "_")));

@@ -266,17 +266,7 @@ impl Workspace {
     pub fn for_scene(s: &FixedScene) -> Self {
         let nv: usize = s.meshes.iter().map(|m| m.positions.len()).sum();
         let nt = s.triangle_count();
-        let empty_object = ObjectFrame {
-            transform: mcu_abuffer::geometry::ObjectTransform {
-                clip: mcu_abuffer::geometry::ClipTransform {
-                    rows: [[0; 3]; 4],
-                    offsets: [0; 4],
-                },
-                normal: [[0; 3]; 3],
-            },
-            vertex_base: 0,
-            triangle_base: 0,
-        };
+        let empty_object = ObjectFrame::EMPTY;
         Self {
             objects: vec![empty_object; s.meshes.len()],
             vertices: vec![ScreenVertex::default(); nv],

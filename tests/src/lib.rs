@@ -9,7 +9,7 @@ use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::{Fragment, PackedFragment};
 use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
-use mcu_abuffer::geometry::{outcode, project, ClipTransform, ObjectTransform, ViewBasis};
+use mcu_abuffer::geometry::{outcode, project, ObjectTransform, ViewBasis};
 use mcu_abuffer::renderer::{
     render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
 };
@@ -199,17 +199,7 @@ where
     F: FnMut(u16, u16, &B),
 {
     let (w, h) = (scene.width as usize, scene.height as usize);
-    let empty_object = ObjectFrame {
-        transform: ObjectTransform {
-            clip: ClipTransform {
-                rows: [[0; 3]; 4],
-                offsets: [0; 4],
-            },
-            normal: [[0; 3]; 3],
-        },
-        vertex_base: 0,
-        triangle_base: 0,
-    };
+    let empty_object = ObjectFrame::EMPTY;
     let mut objects = vec![empty_object; scene.objects.len()];
     let mut vertices = vec![ScreenVertex::default(); scene.vertex_count()];
     let mut rows = vec![0u16; scene.triangle_count()];

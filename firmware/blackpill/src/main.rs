@@ -23,8 +23,8 @@ use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use embedded_hal_bus::spi::ExclusiveDevice;
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::PackedFragment;
-use mcu_abuffer::geometry::{ClipTransform, ObjectTransform};
 use mcu_abuffer::renderer::{FrameWorkspace, ObjectFrame, ScreenVertex};
+use mcu_abuffer::stack::painted_stack_use;
 use mcu_abuffer::{BufferConfig, BufferStorage, FragmentBuffer, Mask4x4, OverflowPolicy};
 use panic_probe as _;
 use stm32f4xx_hal::dma::StreamsTuple;
@@ -72,26 +72,8 @@ static mut POOL_SLOTS: [PackedFragment<Mask4x4>; POOL] = [PackedFragment::EMPTY;
 static mut BAND_A: [u8; BAND_BYTES] = [0; BAND_BYTES];
 static mut BAND_B: [u8; BAND_BYTES] = [0; BAND_BYTES];
 
-const EMPTY_OBJECT: ObjectFrame = ObjectFrame {
-    transform: ObjectTransform {
-        clip: ClipTransform {
-            rows: [[0; 3]; 4],
-            offsets: [0; 4],
-        },
-        normal: [[0; 3]; 3],
-    },
-    vertex_base: 0,
-    triangle_base: 0,
-};
-const EMPTY_VERTEX: ScreenVertex = ScreenVertex {
-    x: 0,
-    y: 0,
-    z: 0,
-    color: [0; 3],
-    outcode: 0,
-};
-static mut WS_OBJECTS: [ObjectFrame; OBJECTS] = [EMPTY_OBJECT; OBJECTS];
-static mut WS_VERTICES: [ScreenVertex; VERTICES] = [EMPTY_VERTEX; VERTICES];
+static mut WS_OBJECTS: [ObjectFrame; OBJECTS] = [ObjectFrame::EMPTY; OBJECTS];
+static mut WS_VERTICES: [ScreenVertex; VERTICES] = [ScreenVertex::EMPTY; VERTICES];
 static mut WS_ROWS: [u16; TRIANGLES] = [0; TRIANGLES];
 static mut WS_ORDER: [u32; TRIANGLES] = [0; TRIANGLES];
 static mut WS_ROW_STARTS: [u32; HEIGHT + 1] = [0; HEIGHT + 1];
@@ -125,28 +107,6 @@ fn take_statics() -> (
             },
             [&mut *addr_of_mut!(BAND_A), &mut *addr_of_mut!(BAND_B)],
         )
-    }
-}
-
-/// The stack's high-water mark since reset and the stack's size, in bytes
-/// (cortex-m-rt's `paint-stack` fills the stack with a pattern at reset).
-fn stack_use() -> (usize, usize) {
-    extern "C" {
-        static _stack_start: u32;
-        static _stack_end: u32;
-    }
-    // SAFETY: only the symbols' addresses are taken; the words between them are
-    // stack RAM, read with volatile loads below the live frames.
-    unsafe {
-        let top = core::ptr::addr_of!(_stack_start) as usize;
-        let mut word = core::ptr::addr_of!(_stack_end);
-        let bottom = word as usize;
-        while (word as usize) < top
-            && core::ptr::read_volatile(word) == cortex_m_rt::STACK_PAINT_VALUE
-        {
-            word = word.add(1);
-        }
-        (top - word as usize, top - bottom)
     }
 }
 
@@ -273,7 +233,7 @@ fn main() -> ! {
         let waited = stream.link_mut().take_wait_cycles();
         match result {
             Ok(stats) => {
-                let (stack_peak, stack_size) = stack_use();
+                let stack = painted_stack_use(cortex_m_rt::STACK_PAINT_VALUE);
                 defmt::info!(
                     "frame {=u32} {=str} {=i32} deg: {=u32}.{=u32} fps, {=u64} cycles ({=u64} waiting for the display), {=u64} fragments, {=u64} merges, pool peak {=u32}, stack {=usize} of {=usize} bytes, {=u32} DMA errors",
                     frame_number,
@@ -286,8 +246,8 @@ fn main() -> ! {
                     stats.buffer.fragments_generated,
                     stats.buffer.merges,
                     stats.buffer.pool_peak,
-                    stack_peak,
-                    stack_size,
+                    stack.high_water,
+                    stack.reserved,
                     stream.link().transfer_errors()
                 );
             }

@@ -10,7 +10,6 @@ use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1};
 use mcu_abuffer::fragment::PackedFragment;
 use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
-use mcu_abuffer::geometry::{ClipTransform, ObjectTransform};
 use mcu_abuffer::renderer::{FrameWorkspace, ObjectFrame, ScreenVertex};
 use mcu_abuffer::zbuffer::ZBuffer;
 
@@ -101,26 +100,8 @@ static mut POOL_SLOTS: [PackedFragment<Mask>; POOL] = [PackedFragment::EMPTY; PO
 static mut DEPTHS: [u32; ZBUF_PIXELS] = [0; ZBUF_PIXELS];
 static mut COLORS: [Rgb888; ZBUF_PIXELS] = [Rgb888::BLACK; ZBUF_PIXELS];
 
-const EMPTY_OBJECT: ObjectFrame = ObjectFrame {
-    transform: ObjectTransform {
-        clip: ClipTransform {
-            rows: [[0; 3]; 4],
-            offsets: [0; 4],
-        },
-        normal: [[0; 3]; 3],
-    },
-    vertex_base: 0,
-    triangle_base: 0,
-};
-const EMPTY_VERTEX: ScreenVertex = ScreenVertex {
-    x: 0,
-    y: 0,
-    z: 0,
-    color: [0; 3],
-    outcode: 0,
-};
-static mut WS_OBJECTS: [ObjectFrame; OBJECTS_LEN] = [EMPTY_OBJECT; OBJECTS_LEN];
-static mut WS_VERTICES: [ScreenVertex; VERTICES] = [EMPTY_VERTEX; VERTICES];
+static mut WS_OBJECTS: [ObjectFrame; OBJECTS_LEN] = [ObjectFrame::EMPTY; OBJECTS_LEN];
+static mut WS_VERTICES: [ScreenVertex; VERTICES] = [ScreenVertex::EMPTY; VERTICES];
 static mut WS_ROWS: [u16; TRIANGLES] = [0; TRIANGLES];
 static mut WS_ORDER: [u32; TRIANGLES] = [0; TRIANGLES];
 static mut WS_ROW_STARTS: [u32; HEIGHT + 1] = [0; HEIGHT + 1];

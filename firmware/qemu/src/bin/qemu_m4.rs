@@ -217,31 +217,6 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
     }
 }
 
-/// The stack's high-water mark since reset and the size the linker reserved for it,
-/// in bytes. The start-up code (cortex-m-rt's `paint-stack`) fills the whole
-/// stack, `_stack_end` up to `_stack_start`, with [`cortex_m_rt::STACK_PAINT_VALUE`];
-/// the lowest word no longer holding it is the deepest the stack has reached.
-fn stack_use() -> (usize, usize) {
-    extern "C" {
-        static _stack_start: u32;
-        static _stack_end: u32;
-    }
-    // SAFETY: only the symbols' addresses are taken, and the words between them
-    // are read with volatile loads: they are RAM the stack owns, below the live
-    // frames when not in use.
-    unsafe {
-        let top = core::ptr::addr_of!(_stack_start) as usize;
-        let mut word = core::ptr::addr_of!(_stack_end);
-        let bottom = word as usize;
-        while (word as usize) < top
-            && core::ptr::read_volatile(word) == cortex_m_rt::STACK_PAINT_VALUE
-        {
-            word = word.add(1);
-        }
-        (top - word as usize, top - bottom)
-    }
-}
-
 fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
     buffer: &mut B,
     ws: &mut FrameWorkspace<'_>,
@@ -318,7 +293,8 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
         let instructions = total * INSTRUCTIONS_PER_TICK;
         let output = sink.ticks * INSTRUCTIONS_PER_TICK;
         let b = &stats.buffer;
-        let (stack_peak, stack_reserved) = stack_use();
+        let stack = mcu_abuffer::stack::painted_stack_use(cortex_m_rt::STACK_PAINT_VALUE);
+        let (stack_peak, stack_reserved) = (stack.high_water, stack.reserved);
         defmt::info!(
             "frame {=usize}: stack high-water mark {=usize} of {=usize} bytes reserved",
             i,
