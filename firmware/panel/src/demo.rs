@@ -175,3 +175,63 @@ pub mod defaults {
     /// Core clock of the board, Hz.
     pub const CLOCK_HZ: u32 = 100_000_000;
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_schedule_turns_then_switches_scenes_by_time() {
+        let mut s = DemoSchedule::new(3, Coord::from_num(100), 1_000);
+        assert_eq!(
+            s.current(),
+            DemoFrame {
+                scene: 0,
+                angle_deg: Coord::ZERO
+            }
+        );
+        s.advance(400);
+        assert_eq!(s.current().angle_deg, Coord::from_num(100));
+        s.advance(400);
+        s.advance(100);
+        s.advance(50);
+        // 300 + 100 = 400 >= 360 wraps to 40.
+        assert_eq!(
+            s.current(),
+            DemoFrame {
+                scene: 0,
+                angle_deg: Coord::from_num(40)
+            }
+        );
+        s.advance(50); // 1,000 cycles in scene 0
+        assert_eq!(
+            s.current(),
+            DemoFrame {
+                scene: 1,
+                angle_deg: Coord::ZERO
+            }
+        );
+        s.advance(5_000);
+        s.advance(5_000);
+        assert_eq!(s.current().scene, 0, "after the last scene comes the first");
+    }
+
+    #[test]
+    fn frame_rate_in_tenths_rounds_and_averages() {
+        assert_eq!(tenths_per_second(100_000_000, 1, 0), 0);
+        assert_eq!(tenths_per_second(100_000_000, 1, 100_000_000), 10);
+        // 100 MHz / 72 M cycles = 1.389 fps -> 1.4
+        assert_eq!(tenths_per_second(100_000_000, 1, 72_000_000), 14);
+        assert_eq!(tenths_per_second(100_000_000, 4, 200_000_000), 20);
+        let mut rate = FrameRate::new(100, 2);
+        assert_eq!(rate.tenths(), 0);
+        rate.add_frame(50); // first frame shown at once: 2 fps
+        assert_eq!(rate.tenths(), 20);
+        rate.add_frame(150); // window of 2: 2 frames in 200 cycles = 1 fps
+        assert_eq!(rate.tenths(), 10);
+        rate.add_frame(25);
+        assert_eq!(rate.tenths(), 10, "kept until the window is full");
+        rate.add_frame(25);
+        assert_eq!(rate.tenths(), 40);
+    }
+}

@@ -171,3 +171,39 @@ impl fmt::Write for TextOverlay {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_is_cut_at_capacity_on_a_character_boundary() {
+        let mut overlay = TextOverlay::default();
+        overlay.set_text(format_args!("{} {}.{} fps", "teapot", 1, 4));
+        assert_eq!(overlay.text(), "teapot 1.4 fps");
+        let long = "é".repeat(OVERLAY_TEXT_BYTES);
+        overlay.set_text(format_args!("x{long}"));
+        assert_eq!(overlay.text().len(), OVERLAY_TEXT_BYTES - 1);
+        assert!(overlay.text().starts_with('x'));
+    }
+
+    #[test]
+    fn the_canvas_keeps_only_its_band() {
+        let (width, rows) = (4u16, 2u16);
+        let mut pixels = [0u8; 4 * 2 * 2];
+        let mut canvas = BandCanvas::new(&mut pixels, width, 10, 3, rows);
+        let white = Rgb565::WHITE;
+        let points = [(0, 2), (1, 3), (3, 4), (4, 3), (-1, 3), (0, 5)];
+        canvas
+            .draw_iter(points.iter().map(|&(x, y)| Pixel(Point::new(x, y), white)))
+            .unwrap();
+        let set: Vec<usize> = pixels
+            .chunks_exact(2)
+            .enumerate()
+            .filter(|(_, p)| p != &[0, 0])
+            .map(|(i, _)| i)
+            .collect();
+        // (1, 3) is index 1 of row 0; (3, 4) is index 3 of row 1.
+        assert_eq!(set, [1, 7]);
+    }
+}
