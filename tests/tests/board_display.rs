@@ -325,3 +325,80 @@ fn a_partial_band_is_addressed_on_its_own() {
     assert!(row(10).iter().all(|&p| p == 0xF800) && row(11).iter().all(|&p| p == 0xF800));
     assert_eq!(stream.stats().bands, 2);
 }
+
+mod any_line_sequence {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A line of one color whose RGB565 value is distinct per (row, write).
+    fn line(width: u16, seed: u32) -> (Vec<Rgb888>, u16) {
+        let c = Rgb888::new(
+            (seed * 37) as u8,
+            (seed * 91 + 7) as u8,
+            (seed * 13 + 100) as u8,
+        );
+        let raw = RawU16::from(Rgb565::from(c)).into_inner();
+        (vec![c; width as usize], raw)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+        /// Whatever rows arrive in whatever order, through buffers of any size, the
+        /// controller ends up with the last line written to each row, never sees a
+        /// protocol error, and rows outside the image or lines of the wrong width
+        /// are refused without reaching it.
+        #[test]
+        fn the_controller_holds_the_last_line_of_every_row(
+            width in 1u16..=240,
+            height in 1u16..=40,
+            capacity_rows in 1usize..=12,
+            extra_bytes in 0usize..4,
+            writes in proptest::collection::vec((0u16..48, 0u8..8), 0..120),
+        ) {
+            let emulator = St7789Emulator::new();
+            let (spi, dc) = initialized_panel(&emulator);
+            emulator.fill_memory(0xDEAD);
+            let bytes = capacity_rows * width as usize * 2 + extra_bytes;
+            let buffers: [&'static mut [u8]; 2] =
+                [Vec::leak(vec![0u8; bytes]), Vec::leak(vec![0u8; bytes])];
+            let mut stream = BandStream::new(SpiPanelLink::new(spi, dc), width, height, buffers).unwrap();
+            stream.overlay_mut().set_enabled(false);
+            let mut expected = vec![None; height as usize];
+            for (i, &(y, kind)) in writes.iter().enumerate() {
+                let (pixels, raw) = line(width, i as u32);
+                if kind == 0 {
+                    // A line one pixel short (or long, for a 1-pixel image).
+                    let wrong = if width > 1 { width - 1 } else { 2 };
+                    let short = vec![pixels[0]; wrong as usize];
+                    prop_assert_eq!(
+                        stream.write_line(y.min(height - 1), &short),
+                        Err(StreamError::LineWidth { y: y.min(height - 1), pixels: wrong as usize })
+                    );
+                } else if y >= height {
+                    prop_assert_eq!(stream.write_line(y, &pixels), Err(StreamError::Row { y }));
+                } else {
+                    prop_assert_eq!(stream.write_line(y, &pixels), Ok(()));
+                    expected[y as usize] = Some(raw);
+                }
+            }
+            stream.flush().unwrap();
+            let state = emulator.state();
+            prop_assert!(state.errors.is_empty(), "{:?}", state.errors);
+            let shown = emulator.region(0, 0, width, height);
+            for (y, want) in expected.iter().enumerate() {
+                let row = &shown[y * width as usize..(y + 1) * width as usize];
+                let want = want.unwrap_or(0xDEAD);
+                prop_assert!(row.iter().all(|&p| p == want), "row {} holds {:?}, not {:#06x}", y, &row[..1], want);
+            }
+            // Columns right of the image are untouched.
+            if width < MEMORY_COLUMNS {
+                let right = emulator.region(width, 0, MEMORY_COLUMNS - width, height);
+                prop_assert!(right.iter().all(|&p| p == 0xDEAD));
+            }
+            // Buffers come back whole.
+            let (_, [a, b]) = stream.release().unwrap();
+            prop_assert_eq!((a.len(), b.len()), (bytes, bytes));
+        }
+    }
+}
