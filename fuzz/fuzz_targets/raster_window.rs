@@ -209,7 +209,10 @@ fn run<M: CoverageMask>(u: &mut Unstructured<'_>) -> Result<()> {
     let cull = u.arbitrary()?;
     let setup = TriangleSetup::new(&v, cull, colors, width, height);
     if std::env::var_os("FUZZ_PRINT").is_some() {
-        eprintln!("setup: {:?}", setup.as_ref().map(|s| s.colors).map_err(|e| *e));
+        eprintln!(
+            "setup: {:?}",
+            setup.as_ref().map(|s| s.colors).map_err(|e| *e)
+        );
     }
     let Ok(setup) = setup else {
         return Ok(());

@@ -149,10 +149,11 @@ impl<CS: OutputPin, DC: OutputPin> PanelLink<'static> for DmaPanelLink<CS, DC> {
         self.stream.clear_direct_mode_error();
         // The band's bytes are in memory before the DMA reads them.
         compiler_fence(Ordering::Release);
-        set_tx_dma(true);
+        // Stream first, then the SPI's request (the reference manual's order).
         // SAFETY: the stream is configured above and in `new`; the buffer is
         // 'static and held by the link until the transfer completes.
         unsafe { self.stream.enable() };
+        set_tx_dma(true);
         self.in_flight = Some(buffer);
         Ok(())
     }
