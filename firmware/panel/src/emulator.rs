@@ -413,3 +413,85 @@ impl OutputPin for EmulatedResetPin {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn send(emulator: &St7789Emulator, command: u8, data: &[u8]) {
+        let (mut spi, mut dc) = (emulator.spi(), emulator.data_command_pin());
+        dc.set_low().unwrap();
+        spi.write(&[command]).unwrap();
+        if !data.is_empty() {
+            dc.set_high().unwrap();
+            spi.write(data).unwrap();
+        }
+    }
+
+    fn ready() -> St7789Emulator {
+        let emulator = St7789Emulator::new();
+        send(&emulator, SLPOUT, &[]);
+        send(&emulator, COLMOD, &[COLMOD_RGB565]);
+        emulator
+    }
+
+    #[test]
+    fn a_window_fills_row_by_row_and_wraps() {
+        let emulator = ready();
+        send(&emulator, CASET, &address_range(10, 11));
+        send(&emulator, RASET, &address_range(5, 6));
+        // Five pixels into a 2 x 2 window: the fifth wraps to the first.
+        let pixels: Vec<u8> = [1u16, 2, 3, 4, 5]
+            .iter()
+            .flat_map(|p| p.to_be_bytes())
+            .collect();
+        send(&emulator, RAMWR, &pixels);
+        assert_eq!(emulator.region(10, 5, 2, 2), [5, 2, 3, 4]);
+        let state = emulator.state();
+        assert!(state.errors.is_empty(), "{:?}", state.errors);
+        assert_eq!(state.pixels_written, 5);
+        assert_eq!(state.commands, [SLPOUT, COLMOD, CASET, RASET, RAMWR]);
+    }
+
+    #[test]
+    fn madctl_mirrors_and_exchanges() {
+        let emulator = ready();
+        // MX: column 0 lands in the last memory column.
+        send(&emulator, MADCTL, &[0x40]);
+        send(&emulator, CASET, &address_range(0, 0));
+        send(&emulator, RASET, &address_range(0, 0));
+        send(&emulator, RAMWR, &[0x12, 0x34]);
+        assert_eq!(emulator.region(MEMORY_COLUMNS - 1, 0, 1, 1), [0x1234]);
+        // MV: logical (column 7, row 3) is memory (3, 7); columns may reach 319.
+        send(&emulator, MADCTL, &[0x20]);
+        send(&emulator, CASET, &address_range(7, 319));
+        send(&emulator, RASET, &address_range(3, 3));
+        send(&emulator, RAMWR, &[0xAB, 0xCD]);
+        assert_eq!(emulator.region(3, 7, 1, 1), [0xABCD]);
+        assert!(emulator.state().errors.is_empty());
+    }
+
+    #[test]
+    fn protocol_mistakes_are_recorded() {
+        let emulator = St7789Emulator::new();
+        let (mut spi, mut dc) = (emulator.spi(), emulator.data_command_pin());
+        dc.set_high().unwrap();
+        spi.write(&[0x00]).unwrap(); // data before any command
+        send(&emulator, RAMWR, &[0x00, 0x00]); // still in the 18-bit mode of reset
+        send(&emulator, COLMOD, &[COLMOD_RGB565]);
+        send(&emulator, RAMWR, &[0x00]); // half a pixel, then the transaction ends
+        send(&emulator, CASET, &address_range(0, 240)); // one column too many
+        send(&emulator, RASET, &[0, 1]); // two of four parameters
+        send(&emulator, NORON, &[]);
+        let mut buffer = [0u8; 1];
+        assert_eq!(spi.read(&mut buffer), Err(ReadNotSupported));
+        let errors = emulator.state().errors;
+        assert_eq!(errors.len(), 6, "{errors:?}");
+        // A hardware reset returns to sleep, display off, 18-bit color.
+        send(&emulator, SLPOUT, &[]);
+        send(&emulator, DISPON, &[]);
+        emulator.reset_pin().set_low().unwrap();
+        let state = emulator.state();
+        assert!(state.sleeping && !state.display_on && state.colmod == 0x66);
+    }
+}
