@@ -61,29 +61,11 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         self.stats.fragments_generated += 1;
         self.stats.depth_tests += 1;
         let p = row as usize * self.width as usize + x as usize;
-        // Ties go to the later fragment, as in the A-buffer's visibility masks.
-        if fragment.mask == Mask1x1::FULL && fragment.z <= self.depth[p] {
-            if self.depth[p] != EMPTY_DEPTH {
-                self.stats.fragments_removed_hidden += 1;
-            }
-            self.depth[p] = fragment.z;
-            self.color[p] = fragment.color;
-            self.stats.fragments_stored += 1;
-            self.stats.max_fragments_in_pixel = 1;
-        } else {
-            self.stats.fragments_hidden_on_arrival += 1;
-        }
+        depth_test_and_store(self.depth, self.color, p, fragment, &mut self.stats);
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        let start = row as usize * self.width as usize;
-        for (x, px) in out.iter_mut().enumerate().take(self.width as usize) {
-            *px = if self.depth[start + x] == EMPTY_DEPTH {
-                background
-            } else {
-                self.color[start + x]
-            };
-        }
+        resolve_depth_row(self.depth, self.color, self.width, row, background, out);
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
@@ -96,5 +78,49 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
 
     fn take_stats(&mut self) -> BufferStats {
         core::mem::take(&mut self.stats)
+    }
+}
+
+/// The plain depth test of pixel `p` (ties go to the later fragment, as in the
+/// A-buffer's visibility masks), storing the fragment when it passes and counting
+/// it in `stats`. Shared by the z-buffer variants.
+#[inline]
+pub(crate) fn depth_test_and_store(
+    depth: &mut [u32],
+    color: &mut [Rgb888],
+    p: usize,
+    fragment: &Fragment<Mask1x1>,
+    stats: &mut BufferStats,
+) {
+    if fragment.mask == Mask1x1::FULL && fragment.z <= depth[p] {
+        if depth[p] != EMPTY_DEPTH {
+            stats.fragments_removed_hidden += 1;
+        }
+        depth[p] = fragment.z;
+        color[p] = fragment.color;
+        stats.fragments_stored += 1;
+        stats.max_fragments_in_pixel = 1;
+    } else {
+        stats.fragments_hidden_on_arrival += 1;
+    }
+}
+
+/// Row `row` of a depth and color band `width` pixels wide into `out`: a pixel's
+/// color, or `background` where nothing was drawn. Shared by the z-buffer variants.
+pub(crate) fn resolve_depth_row(
+    depth: &[u32],
+    color: &[Rgb888],
+    width: u16,
+    row: u16,
+    background: Rgb888,
+    out: &mut [Rgb888],
+) {
+    let start = row as usize * width as usize;
+    for (x, px) in out.iter_mut().enumerate().take(width as usize) {
+        *px = if depth[start + x] == EMPTY_DEPTH {
+            background
+        } else {
+            color[start + x]
+        };
     }
 }

@@ -27,7 +27,7 @@ use crate::fragment::Fragment;
 use crate::raster::rasterize;
 use crate::setup::{Rejection, SetupVertex, TriangleSetup};
 use crate::stats::BufferStats;
-use crate::zbuffer::EMPTY_DEPTH;
+use crate::zbuffer::{resolve_depth_row, EMPTY_DEPTH};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// log2 of the tile side.
@@ -306,14 +306,7 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        let start = row as usize * self.width as usize;
-        for (x, px) in out.iter_mut().enumerate().take(self.width as usize) {
-            *px = if self.depth[start + x] == EMPTY_DEPTH {
-                background
-            } else {
-                self.color[start + x]
-            };
-        }
+        resolve_depth_row(self.depth, self.color, self.width, row, background, out);
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {

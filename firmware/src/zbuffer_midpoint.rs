@@ -43,14 +43,14 @@
 //! produce exactly the plain z-buffer's pixels.
 
 use crate::band_buffer::{BandBuffer, DrawParams};
-use crate::coverage::{CoverageMask, Mask1x1};
+use crate::coverage::Mask1x1;
 use crate::fixed_point::{GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::Fragment;
 use crate::raster::rasterize;
 use crate::setup::{signed_area2, ColorPlanes, Edge, Plane, Rejection, SetupVertex, TriangleSetup};
 use crate::shading::{PhongPlanes, QuadraticPolynomial};
 use crate::stats::BufferStats;
-use crate::zbuffer::EMPTY_DEPTH;
+use crate::zbuffer::{depth_test_and_store, resolve_depth_row, EMPTY_DEPTH};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// The deepest subdivision accepted (`3^6 = 729` pieces per triangle at most).
@@ -765,29 +765,11 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
             return;
         }
         self.stats.depth_tests += 1;
-        // Ties go to the later fragment, as in the plain z-buffer.
-        if fragment.mask == Mask1x1::FULL && fragment.z <= self.depth[p] {
-            if self.depth[p] != EMPTY_DEPTH {
-                self.stats.fragments_removed_hidden += 1;
-            }
-            self.depth[p] = fragment.z;
-            self.color[p] = fragment.color;
-            self.stats.fragments_stored += 1;
-            self.stats.max_fragments_in_pixel = 1;
-        } else {
-            self.stats.fragments_hidden_on_arrival += 1;
-        }
+        depth_test_and_store(self.depth, self.color, p, fragment, &mut self.stats);
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        let start = row as usize * self.width as usize;
-        for (x, px) in out.iter_mut().enumerate().take(self.width as usize) {
-            *px = if self.depth[start + x] == EMPTY_DEPTH {
-                background
-            } else {
-                self.color[start + x]
-            };
-        }
+        resolve_depth_row(self.depth, self.color, self.width, row, background, out);
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
