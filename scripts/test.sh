@@ -4,7 +4,9 @@
 # targets, and runs the whole suite: host unit and system tests, the QEMU
 # firmware parity and instruction-count tests (Cortex-M4) and the SPI display
 # screendump test (Cortex-M3), the STM32F411 board firmware's link check and the
-# host test of its display path, checks the board's probe-rs chip name, then runs
+# host test of its display path, checks the board's chip name and memory against
+# probe-rs's target description (probe-rs itself when installed, else the copy in
+# firmware/blackpill/probe-rs-target; it does not install probe-rs), then runs
 # every fuzz target for a short time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,7 +42,7 @@ cargo build -p mcu-abuffer --release --target thumbv6m-none-eabi
 echo "== tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump, board link and display path)"
 cargo test --workspace
 
-echo "== board: the runner's chip is one probe-rs knows, with memory.x's flash and RAM (installs probe-rs)"
+echo "== board: the runner's chip is one probe-rs knows, with memory.x's flash and RAM (probe-rs if installed, else the copy of its target description)"
 bash scripts/check-board-chip.sh
 
 echo "== fuzz: 10 s per target from the seed corpus (installs nightly and cargo-fuzz)"
