@@ -7,7 +7,7 @@
 //! | `BOARD_BAND` | rows per band (render band and each of the two DMA buffers) | 6 |
 //! | `BOARD_POOL` | shared pool slots | 512 |
 //! | `BOARD_MAIN`, `BOARD_EXTRA` | fragment slots and pool addresses per pixel | 1, 2 |
-//! | `BOARD_STACK_RESERVE` | bytes kept free for the stack | 8192 |
+//! | `BOARD_STACK_RESERVE` | bytes kept free for the stack | 10240 |
 //!
 //! The image is 240 x 240 with the 4x4 sample grid; the defaults are
 //! `abuffer_panel::demo::defaults`, which the host tests of the display path use too.
@@ -76,7 +76,7 @@ fn main() {
     let pool = env_num("BOARD_POOL", defaults::POOL_SLOTS);
     let main_slots = env_num("BOARD_MAIN", defaults::MAIN_SLOTS as usize);
     let extra = env_num("BOARD_EXTRA", defaults::EXTRA_ADDRESSES as usize);
-    let stack_reserve = env_num("BOARD_STACK_RESERVE", 8192);
+    let stack_reserve = env_num("BOARD_STACK_RESERVE", 10240);
     if main_slots == 0 || main_slots + extra > 255 {
         fail(&format!(
             "BOARD_MAIN={main_slots} BOARD_EXTRA={extra}: need 1 <= main and main + extra <= 255"

@@ -13,7 +13,7 @@
 //! | `FIRMWARE_BAND` | band height in rows | 8 |
 //! | `FIRMWARE_MAIN`, `FIRMWARE_EXTRA`, `FIRMWARE_POOL` | `N_main`, `N_extra`, `N_pool` | 1, 2, 512 |
 //! | `FIRMWARE_FIXED` | `N_fixed` for the fixed methods | 3 |
-//! | `FIRMWARE_STACK_RESERVE` | bytes kept free for the stack | 8192 |
+//! | `FIRMWARE_STACK_RESERVE` | bytes kept free for the stack | 10240 |
 //!
 //! Parameters that do not fit the board's RAM (or a mesh that does not fit its flash)
 //! stop the build with a message naming them and the overshoot.
@@ -171,7 +171,7 @@ fn main() {
             "FIRMWARE_POOL={pool}: a pool address is 16 bits, so at most 65535 slots"
         ));
     }
-    let stack_reserve = env_num("FIRMWARE_STACK_RESERVE", 8192);
+    let stack_reserve = env_num("FIRMWARE_STACK_RESERVE", 10240);
 
     // The scene as Rust statics, and what they will take.
     let baked = bake_scene(&desc, &format!("FIRMWARE_SCENE={spec}"));

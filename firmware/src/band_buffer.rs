@@ -2,7 +2,7 @@
 
 use crate::coverage::CoverageMask;
 use crate::fragment::Fragment;
-use crate::raster::rasterize;
+use crate::raster::{hidden_in_band, rasterize};
 use crate::setup::{ColorSource, Rejection, SetupVertex, TriangleSetup};
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -28,22 +28,50 @@ pub trait BandBuffer<M: CoverageMask> {
     fn draw_triangle(
         &mut self,
         vertices: &[SetupVertex; 3],
-        params: &DrawParams,
+        params: &DrawParams<'_>,
         band_y0: u16,
         band_rows: u16,
     ) -> Result<(), Rejection>
     where
         Self: Sized,
     {
-        let setup = TriangleSetup::new(
-            vertices,
-            params.cull_backfaces,
-            params.colors,
-            params.width,
-            params.height,
-        )?;
-        rasterize(&setup, band_y0, band_rows, self);
+        let setup =
+            TriangleSetup::new(vertices, params.cull_backfaces, params.width, params.height)?;
+        if hidden_in_band(&setup, band_y0, band_rows, self) {
+            return Ok(());
+        }
+        rasterize(&setup, band_y0, band_rows, self, || {
+            setup.color_planes((params.colors)())
+        });
         Ok(())
+    }
+    /// Whether pixel `(x, row)` holds, at every sample, something strictly
+    /// nearer than `depth` (a depth at a sample, times 16, as
+    /// [`Fragment::depth_at`] gives it). Used to skip triangles that are hidden
+    /// in the whole band; the default says `false` (nothing is skipped).
+    #[inline]
+    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+        let _ = (x, row, depth);
+        false
+    }
+    /// Counts one whole-triangle test against the band: `pixels` pixels asked
+    /// with [`BandBuffer::hides`], and whether the triangle was skipped.
+    #[inline]
+    fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
+        let _ = (pixels, hidden);
+    }
+    /// Whether `fragment` (its color not yet known) would keep at least one
+    /// sample if it were inserted at column `x`, band row `row`. When it would
+    /// not, the buffer counts it as inserted and hidden on arrival, exactly as
+    /// [`BandBuffer::insert`] would have, and nothing else changes.
+    ///
+    /// The rasterizer asks this for a triangle's fragments until the first one
+    /// that survives, and sets up the triangle's colors only then. The default
+    /// answers `true` (every fragment gets inserted).
+    #[inline]
+    fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<M>) -> bool {
+        let _ = (x, row, fragment);
+        true
     }
     /// Adds the fragment of one triangle at column `x`, band row `row`.
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>);
@@ -60,12 +88,13 @@ pub trait BandBuffer<M: CoverageMask> {
 }
 
 /// What [`BandBuffer::draw_triangle`] needs besides the vertices.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct DrawParams {
+#[derive(Clone, Copy)]
+pub struct DrawParams<'c> {
     /// Skip the triangle when it faces away.
     pub cull_backfaces: bool,
-    /// How fragment colors are produced.
-    pub colors: ColorSource,
+    /// How fragment colors are produced; asked only when the triangle leaves a
+    /// visible fragment (lighting normals cost work).
+    pub colors: &'c dyn Fn() -> ColorSource,
     /// Image width.
     pub width: u16,
     /// Image height.

@@ -47,6 +47,16 @@ pub trait CoverageMask:
     /// A mask from raw bits (bits above `SAMPLES` are dropped).
     fn from_u64(bits: u64) -> Self;
 
+    /// What [`CoverageMask::edge_coverage`] needs about one edge, prepared once
+    /// per triangle by [`CoverageMask::edge_samples`].
+    type EdgeSamples: Copy;
+    /// Prepares the edge whose function grows by `a` per 1/16 pixel in x and by
+    /// `b` in y (both at most 2^18 in magnitude).
+    fn edge_samples(a: i32, b: i32) -> Self::EdgeSamples;
+    /// The samples where the edge function is non-negative, given its value `e`
+    /// at the pixel center (within the pixel's margin: below 2^22).
+    fn edge_coverage(edge: &Self::EdgeSamples, e: i32) -> Self;
+
     /// Whether no sample is set.
     #[inline]
     fn is_empty(self) -> bool {
@@ -78,8 +88,203 @@ pub trait CoverageMask:
     }
 }
 
+/// The samples of grid `M` where an edge function (value `e` at the pixel
+/// center, steps `a` and `b` per 1/16 pixel) is non-negative, sample by sample.
+// Out of line: inlined into a pixel loop, the compiler keeps every sample's edge
+// value as its own induction variable, stepped (on the stack) at every pixel.
+#[inline(never)]
+pub fn edge_coverage_by_sample<M: CoverageMask>(e: i32, a: i32, b: i32) -> M {
+    let mut row_value = e + a * M::offset_x(0) + b * M::offset_y(0);
+    let step_x = a * (16 / M::COLS as i32);
+    let step_y = b * (16 / M::ROWS as i32);
+    let mut bits = 0u64;
+    let mut bit = 0;
+    for _ in 0..M::ROWS {
+        let mut value = row_value;
+        for _ in 0..M::COLS {
+            bits |= ((value >= 0) as u64) << bit;
+            bit += 1;
+            value += step_x;
+        }
+        row_value += step_y;
+    }
+    M::from_u64(bits)
+}
+
+/// Exact 4x4 edge masks from sorted sample thresholds.
+///
+/// Sample `s` at offset `(ox, oy)` is covered when `e >= t_s` with
+/// `t_s = -(a ox + b oy)`. Sorted by `t_s`, the covered samples are always a
+/// prefix of the order: a binary search for how many thresholds are at most
+/// `e` (four comparisons) and one table read give the mask. The order depends
+/// only on the edge's direction: two samples swap places where `a ox + b oy`
+/// ties, that is where `|b| / |a|` is 0, 1/3, 1/2, 2/3, 1 or their inverses,
+/// which cuts the directions into 32 sectors with one order each (on a sector
+/// boundary, the neighbouring sectors' orders are still sorted, ties side by
+/// side). The tables are built at compile time from a direction inside each
+/// sector.
+mod sorted_4x4 {
+    /// Sample offsets of the 4x4 grid in 1/16 pixel, per column (and per row).
+    const OFFSETS: [i32; 4] = [-6, -2, 2, 6];
+
+    /// The sector of direction `(a, b)` (not both zero).
+    #[inline]
+    pub(super) const fn sector(a: i32, b: i32) -> usize {
+        let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
+        let swap = ub > ua;
+        let (u, v) = if swap { (ub, ua) } else { (ua, ub) };
+        let sub = (3 * v > u) as usize + (2 * v > u) as usize + (3 * v > 2 * u) as usize;
+        (((b < 0) as usize) << 4) | (((a < 0) as usize) << 3) | ((swap as usize) << 2) | sub
+    }
+
+    /// A direction inside sector `s`.
+    const fn representative(s: usize) -> (i32, i32) {
+        let (u, v) = [(12, 2), (12, 5), (12, 7), (12, 10)][s & 3];
+        let (a, b) = if s & 4 != 0 { (v, u) } else { (u, v) };
+        (
+            if s & 8 != 0 { -a } else { a },
+            if s & 16 != 0 { -b } else { b },
+        )
+    }
+
+    /// The threshold of sample `k` (`row * 4 + column`) for direction `(a, b)`.
+    const fn threshold(a: i32, b: i32, k: u8) -> i32 {
+        -(a * OFFSETS[(k & 3) as usize] + b * OFFSETS[(k >> 2) as usize])
+    }
+
+    /// Samples (`row * 4 + column`) of each sector by rising threshold.
+    pub(super) const ORDER: [[u8; 16]; 32] = {
+        let mut table = [[0u8; 16]; 32];
+        let mut s = 0;
+        while s < 32 {
+            let (a, b) = representative(s);
+            let mut order = [0u8; 16];
+            let mut i = 0;
+            while i < 16 {
+                order[i] = i as u8;
+                i += 1;
+            }
+            // Insertion sort by threshold -(a ox + b oy).
+            let mut i = 1;
+            while i < 16 {
+                let mut j = i;
+                while j > 0 && threshold(a, b, order[j - 1]) > threshold(a, b, order[j]) {
+                    let x = order[j];
+                    order[j] = order[j - 1];
+                    order[j - 1] = x;
+                    j -= 1;
+                }
+                i += 1;
+            }
+            table[s] = order;
+            s += 1;
+        }
+        table
+    };
+
+    /// The masks of the first `k` samples of each sector's order, `k = 0..=16`.
+    pub(super) const PREFIX: [[u16; 17]; 32] = {
+        let mut table = [[0u16; 17]; 32];
+        let mut s = 0;
+        while s < 32 {
+            let mut k = 0;
+            while k < 16 {
+                table[s][k + 1] = table[s][k] | 1 << ORDER[s][k];
+                k += 1;
+            }
+            s += 1;
+        }
+        table
+    };
+
+    /// One edge: its sector and the threshold parts per column and row.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Edge4x4 {
+        sector: u8,
+        column: [i32; 4],
+        row: [i32; 4],
+    }
+
+    impl Edge4x4 {
+        /// The edge with steps `a`, `b`.
+        #[inline]
+        pub fn new(a: i32, b: i32) -> Self {
+            Self {
+                sector: sector(a, b) as u8,
+                column: OFFSETS.map(|o| -a * o),
+                row: OFFSETS.map(|o| -b * o),
+            }
+        }
+
+        /// The covered samples for center value `e`.
+        #[inline]
+        pub fn mask(&self, e: i32) -> u16 {
+            let order = &ORDER[self.sector as usize];
+            let t = |k: usize| {
+                let s = order[k];
+                self.column[(s & 3) as usize] + self.row[(s >> 2) as usize]
+            };
+            // How many thresholds are at most e (they rise along the order).
+            let mut k = 0;
+            if t(7) <= e {
+                k = 8;
+            }
+            if t(k + 3) <= e {
+                k += 4;
+            }
+            if t(k + 1) <= e {
+                k += 2;
+            }
+            if t(k) <= e {
+                k += 1;
+            }
+            if k == 15 && t(15) <= e {
+                k = 16;
+            }
+            PREFIX[self.sector as usize][k]
+        }
+    }
+}
+
+pub use sorted_4x4::Edge4x4;
+
+/// The generic [`CoverageMask::EdgeSamples`]: the edge's steps.
+#[derive(Clone, Copy, Debug)]
+pub struct EdgeSteps {
+    a: i32,
+    b: i32,
+}
+
+macro_rules! edge_by_sample {
+    () => {
+        type EdgeSamples = EdgeSteps;
+        #[inline]
+        fn edge_samples(a: i32, b: i32) -> EdgeSteps {
+            EdgeSteps { a, b }
+        }
+        #[inline]
+        fn edge_coverage(edge: &EdgeSteps, e: i32) -> Self {
+            edge_coverage_by_sample(e, edge.a, edge.b)
+        }
+    };
+}
+
+macro_rules! edge_by_table {
+    () => {
+        type EdgeSamples = Edge4x4;
+        #[inline]
+        fn edge_samples(a: i32, b: i32) -> Edge4x4 {
+            Edge4x4::new(a, b)
+        }
+        #[inline]
+        fn edge_coverage(edge: &Edge4x4, e: i32) -> Self {
+            Self(edge.mask(e))
+        }
+    };
+}
+
 macro_rules! coverage_mask {
-    ($(#[$doc:meta])* $name:ident, $bits:ty, $cols:expr, $rows:expr, $label:expr) => {
+    ($(#[$doc:meta])* $name:ident, $bits:ty, $cols:expr, $rows:expr, $label:expr, $edge:ident) => {
         $(#[$doc])*
         #[derive(Clone, Copy, PartialEq, Eq, Default, Hash)]
         #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -143,30 +348,56 @@ macro_rules! coverage_mask {
             fn from_u64(bits: u64) -> Self {
                 Self(bits as $bits & Self::FULL.0)
             }
+
+            $edge!();
         }
     };
 }
 
 coverage_mask!(
     /// 4 x 4 samples in 16 bits: the seed's "most common case".
-    Mask4x4, u16, 4, 4, "4x4"
+    Mask4x4, u16, 4, 4, "4x4", edge_by_table
 );
 coverage_mask!(
     /// 8 columns x 4 rows in 32 bits (Carpenter's A-buffer grid).
-    Mask8x4, u32, 8, 4, "8x4"
+    Mask8x4, u32, 8, 4, "8x4", edge_by_sample
 );
 coverage_mask!(
     /// 8 x 8 samples in 64 bits.
-    Mask8x8, u64, 8, 8, "8x8"
+    Mask8x8, u64, 8, 8, "8x8", edge_by_sample
 );
 coverage_mask!(
     /// One sample at the pixel center: the plain z-buffer (no antialiasing).
-    Mask1x1, u8, 1, 1, "1x1"
+    Mask1x1, u8, 1, 1, "1x1", edge_by_sample
 );
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sorted_thresholds_equal_sample_by_sample() {
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = |range: i64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % (2 * range as u64 + 1)) as i64 - range
+        };
+        for round in 0..400_000 {
+            // Small steps (exact ties are frequent), then any up to 2^18.
+            let range = if round % 2 == 0 { 24 } else { 1 << 18 };
+            let (a, b) = (next(range) as i32, next(range) as i32);
+            if a == 0 && b == 0 {
+                continue;
+            }
+            let margin = 6 * (a.abs() + b.abs());
+            let e = next(margin as i64 + 2) as i32;
+            let table = Edge4x4::new(a, b).mask(e);
+            let direct = edge_coverage_by_sample::<Mask4x4>(e, a, b);
+            assert_eq!(Mask4x4(table), direct, "a {a} b {b} e {e}");
+        }
+    }
 
     #[test]
     fn offsets_are_centered_and_odd() {

@@ -173,6 +173,85 @@ pub fn sin_cos_deg(deg: Coord) -> (i32, i32) {
     (s.clamp(-Q30, Q30) as i32, c.clamp(-Q30, Q30) as i32)
 }
 
+/// The reciprocal of a positive integer, so that divisions by it become
+/// multiplications: one per triangle (twice its area) or per vertex (its `w`)
+/// replaces the 64-bit software divisions a Cortex-M would otherwise run for
+/// every plane gradient and window coordinate.
+///
+/// `d` is normalized to `[2^31, 2^32)` (its low bits dropped when it is longer),
+/// one 32-bit hardware division gives 16 bits of `2^63 / d`, and one Newton step
+/// brings the mantissa to about 30 correct bits. [`Reciprocal::mul_div`] then
+/// computes `n 2^extra / d` to within a relative error below `2^-29` (plus one
+/// unit), deterministically: the same bits on every target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reciprocal {
+    /// About `2^63 / d_n`, in `(2^31, 2^32)`, for `d` normalized to `d_n`.
+    mantissa: u32,
+    /// `n / d` is about `n * mantissa >> shift`.
+    shift: u32,
+}
+
+/// About `2^63 / d` for `d` in `[2^31, 2^32)`, within a few units.
+#[inline]
+fn reciprocal_mantissa(d: u32) -> u32 {
+    // 16-bit estimate from the hardware divider: 2^31 / (d >> 16) ~ 2^47 / d.
+    let estimate = ((1u32 << 31) / (d >> 16)) as u64;
+    let r = estimate << 16;
+    // One Newton step: r (2 - d r / 2^63), with the error term scaled to fit.
+    let error = ((d as u64).wrapping_mul(r)).wrapping_sub(1 << 63) as i64;
+    let correction = ((r as i64) * (error >> 20)) >> 43;
+    (r as i64 - correction).clamp(1 << 31, u32::MAX as i64) as u32
+}
+
+impl Reciprocal {
+    /// The reciprocal of `d`, `1 <= d < 2^62`.
+    #[inline]
+    pub fn new(d: u64) -> Self {
+        let d = d.clamp(1, (1 << 62) - 1);
+        // Normalize to [2^31, 2^32): d_n = d 2^k.
+        let k = d.leading_zeros() as i32 - 32;
+        let normalized = if k >= 0 { d << k } else { d >> -k } as u32;
+        Self {
+            mantissa: reciprocal_mantissa(normalized),
+            // n / d = n 2^k / d_n = n mantissa 2^(k - 63).
+            shift: (63 - k) as u32,
+        }
+    }
+
+    /// `n 2^extra / d`, rounded down (within one unit and the relative error
+    /// above), for `|n| < 2^62`; the result (times two, for
+    /// [`Reciprocal::mul_div_round`]) must fit `i64`.
+    #[inline]
+    pub fn mul_div(self, n: i64, extra: u32) -> i64 {
+        // Move as much of 2^extra into n as fits, so the product keeps its bits.
+        let headroom = (n.unsigned_abs().leading_zeros() as i32 - 2).max(0) as u32;
+        let early = extra.min(headroom);
+        let n = n << early;
+        // (n mantissa) >> 32 exactly rounded down, from two 32 x 32 products.
+        let high = (n >> 32) * self.mantissa as i64;
+        let low = ((n as u32 as u64 * self.mantissa as u64) >> 32) as i64;
+        let product = high + low;
+        let shift = self.shift as i32 - 32 - (extra - early) as i32;
+        if shift >= 0 {
+            product >> shift
+        } else {
+            product << -shift
+        }
+    }
+
+    /// `n 2^extra / d` rounded to nearest (within the same error).
+    #[inline]
+    pub fn mul_div_round(self, n: i64, extra: u32) -> i64 {
+        (self.mul_div(n, extra + 1) + 1) >> 1
+    }
+
+    /// `n / d`, as [`Reciprocal::mul_div`] with no extra factor.
+    #[inline]
+    pub fn divide(self, n: i64) -> i64 {
+        self.mul_div(n, 0)
+    }
+}
+
 /// `a * b >> shift` with rounding to nearest, in 64 bits.
 #[inline]
 pub const fn mul_shift_round(a: i64, b: i64, shift: u32) -> i64 {
@@ -203,6 +282,37 @@ mod tests {
         }
         assert_eq!(isqrt_u64(u64::MAX), u32::MAX as u64);
         assert_eq!(isqrt_u64(1 << 62), 1 << 31);
+    }
+
+    #[test]
+    fn reciprocal_divides_within_its_error_bound() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for _ in 0..200_000 {
+            let d = (next() >> (next() % 64).max(2)).max(1) & ((1 << 62) - 1);
+            let d = d.max(1);
+            let n = (next() as i64) >> (2 + next() % 60);
+            let extra = (next() % 31) as u32;
+            let exact = ((n as i128) << extra).div_euclid(d as i128);
+            if exact.unsigned_abs() >= 1 << 62 {
+                continue;
+            }
+            let got = Reciprocal::new(d).mul_div(n, extra) as i128;
+            let tolerance = (exact.abs() >> 29) + 2 + (1i128 << extra.min(62)) / d as i128;
+            assert!(
+                (got - exact).abs() <= tolerance,
+                "{n} * 2^{extra} / {d}: {got} vs {exact}"
+            );
+        }
+        // Rounded down, a few units below the exact quotient at most.
+        let q = Reciprocal::new(1).divide(1 << 40);
+        assert!((1 << 40) - q < 1 << 12, "{q}");
+        assert!((98..=100).contains(&Reciprocal::new(3).divide(300)));
     }
 
     #[test]

@@ -136,6 +136,16 @@ impl<M: CoverageMask> PackedFragment<M> {
         [(zr >> 24) as u8, (xg >> 24) as u8, (yb >> 24) as u8]
     }
 
+    /// The largest depth of the fragment's plane at any sample of the grid,
+    /// times 16 ([`Fragment::depth_at`]'s scale), without unpacking.
+    #[inline]
+    pub fn farthest_sample_depth(&self) -> i32 {
+        let (zr, xg, yb) = (self.z_red, self.dzdx_green, self.dzdy_blue);
+        (((zr & LOW24) as i32) << 4)
+            + sign_extend_24(xg).abs() * M::max_offset_x()
+            + sign_extend_24(yb).abs() * M::max_offset_y()
+    }
+
     /// Depth at the pixel center.
     #[inline]
     pub fn z(&self) -> u32 {

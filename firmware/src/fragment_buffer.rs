@@ -436,6 +436,49 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         self.pool.reset();
     }
 
+    #[inline]
+    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+        let p = self.pixel_index(x, row);
+        let n = self.counts[p] as usize;
+        let mut covered = M::EMPTY;
+        for i in 0..n {
+            let f = self.slot_ref(p, i);
+            // The farthest sample of the stored fragment's plane (below 2^29).
+            if f.farthest_sample_depth() as i64 >= depth {
+                return false;
+            }
+            covered = covered | f.mask();
+        }
+        covered == M::FULL
+    }
+
+    fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
+        self.stats.culling_depth_tests += pixels as u64;
+        self.stats.triangles_culled += hidden as u64;
+    }
+
+    fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<M>) -> bool {
+        let p = self.pixel_index(x, row);
+        let n = self.counts[p] as usize;
+        let mut left = fragment.mask;
+        for i in 0..n {
+            let stored = self.slot_ref(p, i);
+            let overlap = stored.mask() & left;
+            if overlap.is_empty() {
+                continue;
+            }
+            // Samples where the stored fragment is strictly nearer stay its own.
+            let vis = visibility_mask(fragment, &stored.unpack());
+            left = left & !(overlap & !vis);
+            if left.is_empty() {
+                self.stats.fragments_generated += 1;
+                self.stats.fragments_hidden_on_arrival += 1;
+                return false;
+            }
+        }
+        true
+    }
+
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
         self.stats.fragments_generated += 1;
         let p = self.pixel_index(x, row);

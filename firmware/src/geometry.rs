@@ -9,7 +9,8 @@
 //! in every clip test, which is why each object may pick its own.
 
 use crate::fixed_point::{
-    isqrt_u64, sin_cos_deg, Coord, DEPTH_BITS, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS, UNIT_BITS,
+    isqrt_u64, sin_cos_deg, Coord, Reciprocal, DEPTH_BITS, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS,
+    UNIT_BITS,
 };
 use crate::scene::{Camera, Transform};
 
@@ -347,10 +348,12 @@ pub fn outcode(c: &[i64; 4]) -> u8 {
 #[inline]
 pub fn project(c: &[i64; 4]) -> (i32, i32, u32) {
     let [x, y, z, w] = normalize_clip(c);
-    let w = w.max(1);
+    // One reciprocal per vertex instead of three 64-bit divisions; the
+    // components are at most 2^38, so the quotients times 2^24 fit.
+    let w = Reciprocal::new(w.max(1) as u64);
     let lim = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
-    let div = |n: i64| (((n << (SUBPIXEL_BITS + 1)) + w).div_euclid(2 * w)).clamp(-lim, lim) as i32;
-    let depth = (((z.max(0)) << (DEPTH_BITS + 1)) + w).div_euclid(2 * w);
+    let div = |n: i64| w.mul_div_round(n, SUBPIXEL_BITS).clamp(-lim, lim) as i32;
+    let depth = w.mul_div_round(z.max(0), DEPTH_BITS);
     (div(x), div(y), depth.clamp(0, DEPTH_MAX as i64) as u32)
 }
 

@@ -14,50 +14,14 @@ use crate::fixed_point::DEPTH_MAX;
 use crate::fragment::Fragment;
 use crate::setup::{ColorPlanes, Edge, TriangleSetup};
 use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, PhongWalk, QuadraticWalk};
+use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// Samples where one edge function (value `e` at the pixel center, already biased)
 /// is non-negative.
 #[inline]
 pub fn edge_mask<M: CoverageMask>(e: i64, edge: &Edge) -> M {
     // Near an edge |e| is below the margin (< 2^22), so 32 bits suffice.
-    edge_mask_near::<M>(e as i32, edge.a as i32, edge.b as i32)
-}
-
-/// [`edge_mask`] for an edge value `e` within the pixel's margin, with the edge's
-/// steps `a` (x) and `b` (y) per 1/16 pixel.
-#[inline]
-fn edge_mask_near<M: CoverageMask>(e: i32, a: i32, b: i32) -> M {
-    let mut row_value = e + a * M::offset_x(0) + b * M::offset_y(0);
-    let step_x = a * (16 / M::COLS as i32);
-    let step_y = b * (16 / M::ROWS as i32);
-    if M::SAMPLES <= 32 {
-        // One 32-bit word: the common grids (4x4, 8x4) on 32-bit cores.
-        let mut bits = 0u32;
-        let mut bit = 0;
-        for _ in 0..M::ROWS {
-            let mut value = row_value;
-            for _ in 0..M::COLS {
-                bits |= ((value >= 0) as u32) << bit;
-                bit += 1;
-                value += step_x;
-            }
-            row_value += step_y;
-        }
-        M::from_u64(bits as u64)
-    } else {
-        let mut bits = 0u64;
-        let mut bit = 0;
-        for _ in 0..M::ROWS {
-            let mut value = row_value;
-            for _ in 0..M::COLS {
-                bits |= ((value >= 0) as u64) << bit;
-                bit += 1;
-                value += step_x;
-            }
-            row_value += step_y;
-        }
-        M::from_u64(bits)
-    }
+    M::edge_coverage(&M::edge_samples(edge.a as i32, edge.b as i32), e as i32)
 }
 
 /// An integer type edge functions are stepped in: `i32` when a triangle's edge
@@ -67,6 +31,10 @@ trait EdgeValue:
 {
     fn from_i64(v: i64) -> Self;
     fn near(self) -> i32;
+    /// `self * n` (the result is an edge value the walk reaches, so it fits).
+    fn times(self, n: i64) -> Self;
+    /// The fewest steps of `step > 0` that take `value < target` to `target` or beyond.
+    fn steps_to_reach(value: Self, target: Self, step: Self) -> i64;
 }
 
 impl EdgeValue for i32 {
@@ -77,6 +45,16 @@ impl EdgeValue for i32 {
     #[inline]
     fn near(self) -> i32 {
         self
+    }
+    #[inline]
+    fn times(self, n: i64) -> Self {
+        self * n as i32
+    }
+    #[inline]
+    fn steps_to_reach(value: Self, target: Self, step: Self) -> i64 {
+        // Both differences are below 2^31 in magnitude and positive here.
+        let gap = (target - value) as u32;
+        gap.div_ceil(step as u32) as i64
     }
 }
 
@@ -89,27 +67,35 @@ impl EdgeValue for i64 {
     fn near(self) -> i32 {
         self as i32
     }
+    #[inline]
+    fn times(self, n: i64) -> Self {
+        self * n
+    }
+    #[inline]
+    fn steps_to_reach(value: Self, target: Self, step: Self) -> i64 {
+        ((target - value) as u64).div_ceil(step as u64) as i64
+    }
 }
 
 /// Coverage of the pixel whose center has edge values `e`, given each edge's
 /// margin (the largest change of that edge from the center to a sample).
-#[inline]
+/// `None` when an edge has every sample outside (the pixel is ruled out).
+#[inline(always)]
 fn pixel_coverage<M: CoverageMask, E: EdgeValue>(
     e: &[E; 3],
-    edges: &[Edge; 3],
+    edges: &[M::EdgeSamples; 3],
     margin: &[E; 3],
-) -> M {
+) -> Option<M> {
+    if e[0] < -margin[0] || e[1] < -margin[1] || e[2] < -margin[2] {
+        return None;
+    }
     let mut mask = M::FULL;
     for i in 0..3 {
-        if e[i] >= margin[i] {
-            continue;
+        if e[i] < margin[i] {
+            mask = mask & M::edge_coverage(&edges[i], e[i].near());
         }
-        if e[i] < -margin[i] {
-            return M::EMPTY;
-        }
-        mask = mask & edge_mask_near::<M>(e[i].near(), edges[i].a as i32, edges[i].b as i32);
     }
-    mask
+    Some(mask)
 }
 
 /// Whether every edge value over the rows `y_first..=y_last` of the bounding box
@@ -126,12 +112,23 @@ fn edges_fit_i32(setup: &TriangleSetup, y_first: u16, y_last: u16) -> bool {
 
 /// Rasterizes the rows of `setup` that fall in the band starting at image row
 /// `band_y0` with `band_rows` rows, inserting fragments into `buffer`.
-pub fn rasterize<M: CoverageMask, B: BandBuffer<M>>(
+///
+/// Colors are set up lazily: fragments are first offered to
+/// [`BandBuffer::survives`] without a color, and only when one survives does
+/// `colors` run (lighting, quadratic fit); from that fragment on, each is
+/// inserted with its color. A triangle hidden everywhere in the band costs its
+/// edges and depth only. The result is the same as inserting every fragment.
+pub fn rasterize<M, B, F>(
     setup: &TriangleSetup,
     band_y0: u16,
     band_rows: u16,
     buffer: &mut B,
-) {
+    colors: F,
+) where
+    M: CoverageMask,
+    B: BandBuffer<M>,
+    F: FnOnce() -> ColorPlanes,
+{
     if band_rows == 0 {
         return;
     }
@@ -141,85 +138,304 @@ pub fn rasterize<M: CoverageMask, B: BandBuffer<M>>(
     if y_first > y_last || setup.x0 > setup.x1 {
         return;
     }
-    // One loop per kind of color, so the per-pixel work has no branch on it.
-    let first_row = (y_first - setup.y0) as i64;
-    let rows = (y_first, y_last, band_y0);
+    let rows = RowRange {
+        first: y_first,
+        last: y_last,
+        band_y0,
+    };
     if edges_fit_i32(setup, y_first, y_last) {
-        rasterize_with::<M, B, i32>(setup, rows, first_row, buffer)
+        rasterize_with::<M, B, i32, F>(setup, rows, buffer, colors)
     } else {
-        rasterize_with::<M, B, i64>(setup, rows, first_row, buffer)
+        rasterize_with::<M, B, i64, F>(setup, rows, buffer, colors)
     }
 }
 
-/// Picks the color walk of `setup` and rasterizes with edges in `E`.
-#[inline]
-fn rasterize_with<M: CoverageMask, B: BandBuffer<M>, E: EdgeValue>(
+/// Whether `buffer` hides every fragment `setup` could leave in the band
+/// starting at image row `band_y0` with `band_rows` rows: every pixel of the
+/// triangle's bounding box there holds something strictly nearer, at every
+/// sample, than the nearest sample depth any of its fragments can have. Then
+/// rasterizing it would change nothing (each fragment would be hidden on
+/// arrival), so it is counted and skipped.
+///
+/// The bound is exact for the fragments the rasterizer makes: their depth at a
+/// pixel center is the walked plane, whose smallest value over the box is at
+/// one of its corners, rounded as fragments are; a sample lies at most the
+/// grid's largest offsets from the center.
+pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
     setup: &TriangleSetup,
-    rows: (u16, u16, u16),
-    first_row: i64,
+    band_y0: u16,
+    band_rows: u16,
     buffer: &mut B,
-) {
-    match &setup.colors {
-        ColorPlanes::Constant(c) => {
-            rasterize_rows::<M, B, ConstantWalk, E>(setup, rows, ConstantWalk(*c), buffer)
+) -> bool {
+    if band_rows == 0 {
+        return false;
+    }
+    let band_last = band_y0 as u32 + band_rows as u32 - 1;
+    let y_first = setup.y0.max(band_y0);
+    let y_last = (setup.y1 as u32).min(band_last) as u16;
+    if y_first > y_last || setup.x0 > setup.x1 {
+        return false;
+    }
+    let d = &setup.depth;
+    let (i1, j0, j1) = (
+        (setup.x1 - setup.x0) as i64,
+        (y_first - setup.y0) as i64,
+        (y_last - setup.y0) as i64,
+    );
+    let corner = |i: i64, j: i64| d.origin + i * d.dx + j * d.dy;
+    let nearest = corner(0, j0)
+        .min(corner(i1, j0))
+        .min(corner(0, j1))
+        .min(corner(i1, j1));
+    let z = ((nearest + (1 << 15)) >> 16).clamp(0, DEPTH_MAX as i64);
+    let bound = 16 * z
+        - setup.dzdx.unsigned_abs() as i64 * M::max_offset_x() as i64
+        - setup.dzdy.unsigned_abs() as i64 * M::max_offset_y() as i64;
+    let mut asked = 0u32;
+    for row in y_first - band_y0..y_last - band_y0 + 1 {
+        for x in setup.x0..setup.x1 + 1 {
+            asked += 1;
+            if !buffer.hides(x, row, bound) {
+                buffer.count_triangle_test(asked, false);
+                return false;
+            }
         }
-        ColorPlanes::Linear(p) => {
-            rasterize_rows::<M, B, _, E>(setup, rows, LinearWalk::start(p, first_row), buffer)
-        }
-        ColorPlanes::Quadratic(p) => {
-            rasterize_rows::<M, B, _, E>(setup, rows, QuadraticWalk::start(p, first_row), buffer)
-        }
-        ColorPlanes::Phong(p) => {
-            rasterize_rows::<M, B, _, E>(setup, rows, PhongWalk::start(p, first_row), buffer)
-        }
+    }
+    buffer.count_triangle_test(asked, true);
+    true
+}
+
+/// The image rows of a triangle within one band.
+#[derive(Clone, Copy)]
+struct RowRange {
+    first: u16,
+    last: u16,
+    band_y0: u16,
+}
+
+/// A fragment of `setup` without its color yet.
+#[inline(always)]
+fn fragment_at<M: CoverageMask>(
+    setup: &TriangleSetup,
+    mask: M,
+    z: i64,
+    color: Rgb888,
+) -> Fragment<M> {
+    let z = (z + (1 << 15)) >> 16;
+    Fragment {
+        mask,
+        // One comparison in the common case.
+        z: if (z as u64) <= DEPTH_MAX as u64 {
+            z as u32
+        } else if z < 0 {
+            0
+        } else {
+            DEPTH_MAX
+        },
+        dzdx: setup.dzdx,
+        dzdy: setup.dzdy,
+        color,
     }
 }
 
-/// Rasterizes image rows `rows.0 ..= rows.1` of `setup` into the band starting
-/// at image row `rows.2`, colors from `colors` (positioned at row `rows.0`).
+/// Finds the first surviving fragment, then sets up colors and inserts from there.
+#[inline]
+fn rasterize_with<M, B, E, F>(setup: &TriangleSetup, rows: RowRange, buffer: &mut B, colors: F)
+where
+    M: CoverageMask,
+    B: BandBuffer<M>,
+    E: EdgeValue,
+    F: FnOnce() -> ColorPlanes,
+{
+    let samples = setup.edges.map(|e| M::edge_samples(e.a as i32, e.b as i32));
+    let mut first = None;
+    walk_pixels::<M, E, _>(
+        setup,
+        &samples,
+        rows.last,
+        (setup.x0, rows.first),
+        |x, y, mask, z| {
+            let probe = fragment_at(setup, mask, z, Rgb888::new(0, 0, 0));
+            if buffer.survives(x, y - rows.band_y0, &probe) {
+                first = Some((x, y));
+                true
+            } else {
+                false
+            }
+        },
+    );
+    let Some(start) = first else {
+        return;
+    };
+    // One loop per kind of color, so the per-pixel work has no branch on it.
+    let j = (start.1 - setup.y0) as i64;
+    match colors() {
+        ColorPlanes::Constant(c) => {
+            insert_from::<M, B, E, _>(setup, &samples, rows, start, ConstantWalk(c), buffer)
+        }
+        ColorPlanes::Linear(p) => insert_from::<M, B, E, _>(
+            setup,
+            &samples,
+            rows,
+            start,
+            LinearWalk::start(&p, j),
+            buffer,
+        ),
+        ColorPlanes::Quadratic(p) => insert_from::<M, B, E, _>(
+            setup,
+            &samples,
+            rows,
+            start,
+            QuadraticWalk::start(&p, j),
+            buffer,
+        ),
+        ColorPlanes::Phong(p) => insert_from::<M, B, E, _>(
+            setup,
+            &samples,
+            rows,
+            start,
+            PhongWalk::start(&p, j),
+            buffer,
+        ),
+    }
+}
+
+/// Inserts the fragments of `setup` from pixel `start` (image coordinates) on,
+/// colors from `walk` (positioned at the first column of `start`'s row).
 // Kept out of line: one copy per kind of color, each with its own registers.
 #[inline(never)]
-fn rasterize_rows<M: CoverageMask, B: BandBuffer<M>, W: ColorWalk, E: EdgeValue>(
+fn insert_from<M, B, E, W>(
     setup: &TriangleSetup,
-    rows: (u16, u16, u16),
-    mut colors: W,
+    samples: &[M::EdgeSamples; 3],
+    rows: RowRange,
+    start: (u16, u16),
+    walk: W,
     buffer: &mut B,
-) {
-    let (y_first, y_last, band_y0) = rows;
+) where
+    M: CoverageMask,
+    B: BandBuffer<M>,
+    E: EdgeValue,
+    W: ColorWalk,
+{
+    let mut colors = PositionedWalk::new(walk, start.1);
+    walk_pixels::<M, E, _>(setup, samples, rows.last, start, |x, y, mask, z| {
+        let color = colors.color_at(x - setup.x0, y);
+        buffer.insert(x, y - rows.band_y0, &fragment_at(setup, mask, z, color));
+        false
+    });
+}
+
+/// A color walk that follows the rasterizer: rows top to bottom, columns left
+/// to right within a row, stepping by additions from the row's first column.
+struct PositionedWalk<W: ColorWalk> {
+    walk: W,
+    row: W::Row,
+    column: u16,
+    y: u16,
+}
+
+impl<W: ColorWalk> PositionedWalk<W> {
+    /// `walk` positioned at the first column of image row `y`.
+    #[inline]
+    fn new(walk: W, y: u16) -> Self {
+        Self {
+            row: walk.row(),
+            walk,
+            column: 0,
+            y,
+        }
+    }
+
+    /// The color at column `column` (from the bounding box's first) of image row
+    /// `y`; rows and, within a row, columns never go back.
+    #[inline(always)]
+    fn color_at(&mut self, column: u16, y: u16) -> Rgb888 {
+        if y != self.y {
+            while self.y < y {
+                self.walk.next_row();
+                self.y += 1;
+            }
+            self.row = self.walk.row();
+            self.column = 0;
+        }
+        match column - self.column {
+            0 => {}
+            1 => self.walk.step(&mut self.row),
+            n => self.walk.skip(&mut self.row, n),
+        }
+        self.column = column;
+        self.walk.color(&self.row)
+    }
+}
+
+/// Visits the pixels of `setup` with a non-empty mask, from pixel `start`
+/// (image coordinates) to the end of image row `y_last`, rows top to bottom and
+/// left to right, calling `visit(x, y, mask, depth)` (depth with 16 extra
+/// fraction bits); stops early when `visit` returns `true`.
+///
+/// Per row, the walk starts at the first column not ruled out by an edge that
+/// rises to the right (one division per such edge) and ends at the first
+/// column ruled out after that: the pixels no edge rules out (every edge value
+/// at the center at least minus its margin) form a convex set, so they are one
+/// run per row. Pixels in the run still get their exact masks.
+#[inline(always)]
+fn walk_pixels<M, E, V>(
+    setup: &TriangleSetup,
+    samples: &[M::EdgeSamples; 3],
+    y_last: u16,
+    start: (u16, u16),
+    mut visit: V,
+) where
+    M: CoverageMask,
+    E: EdgeValue,
+    V: FnMut(u16, u16, M, i64) -> bool,
+{
     let margin: [E; 3] = setup.edges.map(|e| {
         E::from_i64(e.a.abs() * M::max_offset_x() as i64 + e.b.abs() * M::max_offset_y() as i64)
     });
     let step_x: [E; 3] = setup.edges.map(|e| E::from_i64(e.a << 4));
     let step_y = setup.edges.map(|e| e.b << 4);
+    let (start_x, start_y) = start;
     // Half-open ranges: inclusive ones cost an extra test per step.
-    for y in y_first..y_last + 1 {
+    for y in start_y..y_last + 1 {
         let dy = (y - setup.y0) as i64;
         let mut e: [E; 3] = [E::from_i64(0); 3];
         for i in 0..3 {
             e[i] = E::from_i64(setup.edges[i].origin + dy * step_y[i]);
         }
-        let mut z = setup.depth.origin + dy * setup.depth.dy;
-        let mut pixel_colors = colors.row();
-        let row = y - band_y0;
-        for x in setup.x0..setup.x1 + 1 {
-            let mask = pixel_coverage::<M, E>(&e, &setup.edges, &margin);
-            if !mask.is_empty() {
-                let color = colors.color(&pixel_colors);
-                let fragment = Fragment {
-                    mask,
-                    z: ((z + (1 << 15)) >> 16).clamp(0, DEPTH_MAX as i64) as u32,
-                    dzdx: setup.dzdx,
-                    dzdy: setup.dzdy,
-                    color,
-                };
-                buffer.insert(x, row, &fragment);
+        // Columns to skip: up to the resume column on the first row, and past
+        // every edge that rises to the right but is still below its margin.
+        let mut skip = if y == start_y {
+            (start_x - setup.x0) as i64
+        } else {
+            0
+        };
+        for i in 0..3 {
+            if step_x[i] > E::from_i64(0) && e[i] < -margin[i] {
+                skip = skip.max(E::steps_to_reach(e[i], -margin[i], step_x[i]));
+            }
+        }
+        let columns = (setup.x1 - setup.x0) as i64 + 1;
+        if skip >= columns {
+            continue;
+        }
+        let mut x = setup.x0 + skip as u16;
+        for i in 0..3 {
+            e[i] = e[i] + E::times(step_x[i], skip);
+        }
+        let mut z = setup.depth.origin + dy * setup.depth.dy + skip * setup.depth.dx;
+        while x <= setup.x1 {
+            let Some(mask) = pixel_coverage::<M, E>(&e, samples, &margin) else {
+                break;
+            };
+            if !mask.is_empty() && visit(x, y, mask, z) {
+                return;
             }
             for i in 0..3 {
                 e[i] = e[i] + step_x[i];
             }
             z += setup.depth.dx;
-            colors.step(&mut pixel_colors);
+            x += 1;
         }
-        colors.next_row();
     }
 }

@@ -171,7 +171,22 @@ pub struct FrameOptions {
     pub turntable_deg: Coord,
 }
 
+/// `triangle_rows` entry of a triangle that is not drawn.
 const SKIP_ROW: u16 = u16::MAX;
+/// `triangle_rows` flag of a triangle facing away (drawn after the front faces).
+const BACK_FACING: u16 = 1 << 14;
+/// `triangle_rows` bits of the row.
+const ROW_BITS: u16 = BACK_FACING - 1;
+
+#[inline]
+fn last_row(entry: u16) -> u16 {
+    entry & ROW_BITS
+}
+
+#[inline]
+fn is_back(entry: u16) -> bool {
+    entry & BACK_FACING != 0
+}
 const OBJECT_SHIFT: u32 = 24;
 const TRIANGLE_MASK: u32 = (1 << OBJECT_SHIFT) - 1;
 
@@ -280,25 +295,29 @@ where
         let mut kept = 0;
         for i in 0..active {
             let t = ws.triangle_order[i];
-            if last_row(&ctx, ws, t) >= y0 as i32 {
+            if last_row(ws.triangle_rows[global_index(ws.objects, t)]) >= y0 {
                 ws.triangle_order[kept] = t;
                 kept += 1;
             }
         }
         active = kept;
-        // Add triangles that start in this band.
-        while next < binned {
-            let t = ws.triangle_order[next];
-            if ws.triangle_rows[global_index(ws.objects, t)] >= y_end {
-                break;
-            }
-            ws.triangle_order[active] = t;
+        // Add triangles that start in this band (the counting sort's row starts).
+        let starting = (ws.row_starts[y_end as usize - 1] as usize).min(binned);
+        while next < starting {
+            ws.triangle_order[active] = ws.triangle_order[next];
             active += 1;
             next += 1;
         }
-        for i in 0..active {
-            let t = ws.triangle_order[i];
-            draw_triangle(&ctx, ws, t, y0, rows, buffer, &mut stats.geometry);
+        // Front faces first, then the back faces of two-sided objects: surfaces
+        // that face the viewer hide most of what faces away, which then costs
+        // no colors and no memory.
+        for back in [false, true] {
+            for i in 0..active {
+                let t = ws.triangle_order[i];
+                if is_back(ws.triangle_rows[global_index(ws.objects, t)]) == back {
+                    draw_triangle(&ctx, ws, t, y0, rows, buffer, &mut stats.geometry);
+                }
+            }
         }
         on_band(y0, rows, buffer);
         for row in 0..rows {
@@ -396,15 +415,6 @@ fn corners(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> [Scre
     corners_of(ctx, ws.objects, ws.vertices, t)
 }
 
-/// The last image row a triangle may touch (clipped ones: the whole image).
-fn last_row(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> i32 {
-    let v = corners(ctx, ws, t);
-    if v.iter().any(|p| p.outcode != 0) {
-        return i32::MAX;
-    }
-    v.iter().map(|p| p.y).max().unwrap_or(0) >> SUBPIXEL_BITS
-}
-
 fn setup_vertex(v: &ScreenVertex) -> SetupVertex {
     SetupVertex {
         x: v.x,
@@ -414,69 +424,115 @@ fn setup_vertex(v: &ScreenVertex) -> SetupVertex {
     }
 }
 
-/// Sorts the visible triangles by first row (counting sort, stable), returns how many.
+/// The rows a drawn triangle spans on screen, `(first, last)`, and whether it
+/// faces away; `None` when it is not drawn (counted in `stats`). Clipped
+/// triangles are clipped here to find their rows, and count as facing the
+/// viewer (their pieces decide for themselves).
+fn triangle_rows(
+    ctx: &FrameContext<'_, '_>,
+    ws: &FrameWorkspace<'_>,
+    t: u32,
+    stats: &mut GeometryStats,
+) -> Option<(u16, u16, bool)> {
+    let scene = ctx.scene;
+    let (width, height) = (scene.width as i32, scene.height as i32);
+    let v = corners(ctx, ws, t);
+    let and = v[0].outcode & v[1].outcode & v[2].outcode;
+    let or = v[0].outcode | v[1].outcode | v[2].outcode;
+    let (o, i) = split(t);
+    let object = &scene.objects[o];
+    let (min_y, max_y, back) = if and != 0 {
+        stats.triangles_outside += 1;
+        return None;
+    } else if or != 0 {
+        stats.triangles_clipped += 1;
+        let transform = &ws.objects[o].transform;
+        let tri = object.mesh.triangles[i];
+        let clip_in: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+            clip: transform.to_clip(&object.mesh.positions[tri[k] as usize]),
+            color: [0; 3],
+            normal: [0; 3],
+        });
+        let poly = clip_triangle(&clip_in, or);
+        if poly.len < 3 {
+            return None;
+        }
+        let ys = poly.vertices[..poly.len].iter().map(|p| project(&p.clip).1);
+        let (lo, hi) = ys.fold((i32::MAX, i32::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
+        (lo >> SUBPIXEL_BITS, hi >> SUBPIXEL_BITS, false)
+    } else {
+        let sv = v.map(|p| setup_vertex(&p));
+        let area2 = signed_area2(&sv);
+        let min_x = v.iter().map(|p| p.x).min().unwrap_or(0) >> SUBPIXEL_BITS;
+        let max_x = v.iter().map(|p| p.x).max().unwrap_or(0) >> SUBPIXEL_BITS;
+        let min_y = v.iter().map(|p| p.y).min().unwrap_or(0) >> SUBPIXEL_BITS;
+        let max_y = v.iter().map(|p| p.y).max().unwrap_or(0) >> SUBPIXEL_BITS;
+        if area2 == 0 {
+            stats.triangles_degenerate += 1;
+            return None;
+        } else if object.cull_backfaces && is_backfacing(area2) {
+            stats.triangles_backfacing += 1;
+            return None;
+        } else if max_x < 0 || max_y < 0 || min_x >= width || min_y >= height {
+            stats.triangles_outside += 1;
+            return None;
+        }
+        (min_y, max_y, is_backfacing(area2))
+    };
+    if max_y < 0 || min_y >= height {
+        stats.triangles_outside += 1;
+        return None;
+    }
+    Some((min_y.max(0) as u16, max_y.min(height - 1) as u16, back))
+}
+
+/// Sorts the drawn triangles by first row (counting sort, stable), returns how
+/// many. Afterwards `row_starts[r]` is the number of triangles that start at
+/// rows up to `r`, and `triangle_rows` holds each drawn triangle's last row
+/// and facing.
 fn bin_triangles(
     ctx: &FrameContext<'_, '_>,
     ws: &mut FrameWorkspace<'_>,
     stats: &mut GeometryStats,
 ) -> usize {
     let scene = ctx.scene;
-    let (width, height) = (scene.width as i32, scene.height as i32);
-    let counts = &mut ws.row_starts[..height as usize + 1];
-    counts.fill(0);
+    let height = scene.height as usize;
+    ws.row_starts[..height + 1].fill(0);
     let mut g = 0usize;
     let mut binned = 0usize;
     for (oi, object) in scene.objects.iter().enumerate() {
         for ti in 0..object.mesh.triangles.len() {
             let t = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
-            let v = corners_of(ctx, ws.objects, ws.vertices, t);
-            let and = v[0].outcode & v[1].outcode & v[2].outcode;
-            let or = v[0].outcode | v[1].outcode | v[2].outcode;
-            let row = if and != 0 {
-                stats.triangles_outside += 1;
-                SKIP_ROW
-            } else if or != 0 {
-                stats.triangles_clipped += 1;
-                0
-            } else {
-                let sv = v.map(|p| setup_vertex(&p));
-                let area2 = signed_area2(&sv);
-                let min_x = v.iter().map(|p| p.x).min().unwrap_or(0) >> SUBPIXEL_BITS;
-                let max_x = v.iter().map(|p| p.x).max().unwrap_or(0) >> SUBPIXEL_BITS;
-                let min_y = v.iter().map(|p| p.y).min().unwrap_or(0) >> SUBPIXEL_BITS;
-                let max_y = v.iter().map(|p| p.y).max().unwrap_or(0) >> SUBPIXEL_BITS;
-                if area2 == 0 {
-                    stats.triangles_degenerate += 1;
-                    SKIP_ROW
-                } else if object.cull_backfaces && is_backfacing(area2) {
-                    stats.triangles_backfacing += 1;
-                    SKIP_ROW
-                } else if max_x < 0 || max_y < 0 || min_x >= width || min_y >= height {
-                    stats.triangles_outside += 1;
-                    SKIP_ROW
-                } else {
-                    min_y.max(0) as u16
+            let entry = match triangle_rows(ctx, ws, t, stats) {
+                Some((first, _, _)) => {
+                    ws.row_starts[first as usize + 1] += 1;
+                    binned += 1;
+                    first
                 }
+                None => SKIP_ROW,
             };
-            ws.triangle_rows[g] = row;
-            if row != SKIP_ROW {
-                counts[row as usize + 1] += 1;
-                binned += 1;
-            }
+            ws.triangle_rows[g] = entry;
             g += 1;
         }
     }
-    for r in 0..height as usize {
-        counts[r + 1] += counts[r];
+    for r in 0..height {
+        ws.row_starts[r + 1] += ws.row_starts[r];
     }
+    // Scatter; then each entry becomes its triangle's last row and facing.
     let mut g = 0usize;
+    let mut unused = GeometryStats::default();
     for (oi, object) in scene.objects.iter().enumerate() {
         for ti in 0..object.mesh.triangles.len() {
-            let row = ws.triangle_rows[g];
-            if row != SKIP_ROW {
-                let slot = &mut ws.row_starts[row as usize];
-                ws.triangle_order[*slot as usize] = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
+            let first = ws.triangle_rows[g];
+            if first != SKIP_ROW {
+                let t = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
+                let slot = &mut ws.row_starts[first as usize];
+                ws.triangle_order[*slot as usize] = t;
                 *slot += 1;
+                ws.triangle_rows[g] = match triangle_rows(ctx, ws, t, &mut unused) {
+                    Some((_, last, back)) => last | if back { BACK_FACING } else { 0 },
+                    None => SKIP_ROW,
+                };
             }
             g += 1;
         }
@@ -541,20 +597,28 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     let (o, i) = split(t);
     let object = &ctx.scene.objects[o];
     let v = corners(ctx, ws, t);
-    let colors = color_source(ctx, ws, t);
-    let params = DrawParams {
-        cull_backfaces: object.cull_backfaces,
-        colors,
-        width: ctx.scene.width,
-        height: ctx.scene.height,
-    };
     let or = v[0].outcode | v[1].outcode | v[2].outcode;
     if or == 0 {
         stats.triangle_setups += 1;
+        let lazy = || color_source(ctx, ws, t);
+        let params = DrawParams {
+            cull_backfaces: object.cull_backfaces,
+            colors: &lazy,
+            width: ctx.scene.width,
+            height: ctx.scene.height,
+        };
         // Rejections were counted when binning.
         let _ = buffer.draw_triangle(&v.map(|p| setup_vertex(&p)), &params, y0, rows);
         return;
     }
+    let colors = color_source(ctx, ws, t);
+    let eager = || colors;
+    let params = DrawParams {
+        cull_backfaces: object.cull_backfaces,
+        colors: &eager,
+        width: ctx.scene.width,
+        height: ctx.scene.height,
+    };
     // Clipped path: transform the corners again at full range and cut the triangle.
     let transform = &ws.objects[o].transform;
     let tri = object.mesh.triangles[i];
@@ -590,8 +654,10 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         // Quadratic and Phong pieces need their corners' normals (and lit colors).
         let corner_normals = [0, k, k + 1].map(|c| poly.vertices[c].normal);
         let mut corner_colors = fan.map(|p| p.color);
+        let piece_colors = clipped_piece_source(colors, &corner_normals, &mut corner_colors);
+        let piece_source = || piece_colors;
         let piece = DrawParams {
-            colors: clipped_piece_source(colors, &corner_normals, &mut corner_colors),
+            colors: &piece_source,
             ..params
         };
         for (p, c) in fan.iter_mut().zip(corner_colors) {

@@ -11,7 +11,7 @@
 //! Ranges: vertices lie within the guard band, so `|A|, |B| < 2^18`, edge values
 //! at pixels in the band stay below 2^37, and depth-plane numerators below 2^43.
 
-use crate::fixed_point::{saturate, GUARD_BAND_PX, SUBPIXEL_BITS};
+use crate::fixed_point::{saturate, Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::GRADIENT_LIMIT;
 use crate::lighting::ColorQ8;
 use crate::shading::{
@@ -117,7 +117,11 @@ pub enum Rejection {
     Outside,
 }
 
-/// A triangle ready to rasterize.
+/// A triangle ready to rasterize: its edges, bounding box and depth plane.
+///
+/// Colors are set up separately, by [`TriangleSetup::color_planes`], and only for
+/// triangles that turn out to leave a visible fragment: a hidden triangle never
+/// pays for its lighting or its quadratic fit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TriangleSetup {
     /// The three edges, inside where all are `>= 0`.
@@ -138,8 +142,23 @@ pub struct TriangleSetup {
     pub dzdx: i32,
     /// See `dzdx`.
     pub dzdy: i32,
-    /// Colors.
-    pub colors: ColorPlanes,
+    /// What color setup needs: the ordered, clamped corners.
+    pub(crate) corners: Corners,
+}
+
+/// The corners of a set-up triangle in edge order, for color setup.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Corners {
+    /// x in 1/16 pixel, clamped to the guard band.
+    xs: [i64; 3],
+    /// y in 1/16 pixel, clamped to the guard band.
+    ys: [i64; 3],
+    /// Vertex colors (Q8).
+    colors: [ColorQ8; 3],
+    /// Whether vertices 1 and 2 were swapped to make the edges positive inside.
+    swapped: bool,
+    /// The reciprocal of twice the area.
+    area2: Reciprocal,
 }
 
 /// Whether a triangle with window-space area `area2` (twice the signed area, from
@@ -166,22 +185,22 @@ const DEPTH_STEP_LIMIT: i64 = 1 << 40;
 /// pixel centers from `center` (1/16 pixel); `area2 > 0` for vertices `xs`, `ys`.
 #[inline(always)]
 fn color_planes(
-    v: &[SetupVertex; 3],
+    colors: &[ColorQ8; 3],
     xs: &[i64; 3],
     ys: &[i64; 3],
     center: (i64, i64),
-    area2: i64,
+    area2: Reciprocal,
 ) -> [Plane; 3] {
     let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
     let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
     let shift = 8 + SUBPIXEL_BITS;
     let mut planes = [Plane::default(); 3];
     for (ch, plane) in planes.iter_mut().enumerate() {
-        let c0 = v[0].color[ch] as i64;
-        let dc1 = v[1].color[ch] as i64 - c0;
-        let dc2 = v[2].color[ch] as i64 - c0;
-        let gx = ((dc1 * dy2 - dc2 * dy1) << shift) / area2;
-        let gy = ((dx1 * dc2 - dx2 * dc1) << shift) / area2;
+        let c0 = colors[0][ch] as i64;
+        let dc1 = colors[1][ch] as i64 - c0;
+        let dc2 = colors[2][ch] as i64 - c0;
+        let gx = area2.mul_div(dc1 * dy2 - dc2 * dy1, shift);
+        let gy = area2.mul_div(dx1 * dc2 - dx2 * dc1, shift);
         *plane = Plane {
             origin: ((c0 << shift) + gx * (center.0 - xs[0]) + gy * (center.1 - ys[0]))
                 >> SUBPIXEL_BITS,
@@ -193,11 +212,11 @@ fn color_planes(
 }
 
 impl TriangleSetup {
-    /// Sets up a triangle for a `width x height` screen.
+    /// Sets up a triangle for a `width x height` screen: edges, bounding box
+    /// and depth plane (colors come later, from [`TriangleSetup::color_planes`]).
     pub fn new(
         v: &[SetupVertex; 3],
         cull_backfaces: bool,
-        colors: ColorSource,
         width: u16,
         height: u16,
     ) -> Result<Self, Rejection> {
@@ -253,8 +272,16 @@ impl TriangleSetup {
         let dz1 = v[1].z as i64 - v[0].z as i64;
         let dz2 = v[2].z as i64 - v[0].z as i64;
         let shift = 16 + SUBPIXEL_BITS;
-        let gx = saturate(((dz1 * dy2 - dz2 * dy1) << shift) / area2, DEPTH_STEP_LIMIT);
-        let gy = saturate(((dx1 * dz2 - dx2 * dz1) << shift) / area2, DEPTH_STEP_LIMIT);
+        // One reciprocal of the area serves every plane of the triangle.
+        let reciprocal = Reciprocal::new(area2 as u64);
+        let gx = saturate(
+            reciprocal.mul_div(dz1 * dy2 - dz2 * dy1, shift),
+            DEPTH_STEP_LIMIT,
+        );
+        let gy = saturate(
+            reciprocal.mul_div(dx1 * dz2 - dx2 * dz1, shift),
+            DEPTH_STEP_LIMIT,
+        );
         let depth = Plane {
             origin: (((v[0].z as i64) << shift) + gx * (cx - xs[0]) + gy * (cy - ys[0]))
                 >> SUBPIXEL_BITS,
@@ -262,7 +289,39 @@ impl TriangleSetup {
             dy: gy,
         };
         let round16 = |g: i64| saturate((g + (1 << 15)) >> 16, GRADIENT_LIMIT as i64) as i32;
-        let linear = || color_planes(&v, &xs, &ys, (cx, cy), area2);
+        Ok(Self {
+            edges,
+            x0: x0 as u16,
+            y0: y0 as u16,
+            x1: x1 as u16,
+            y1: y1 as u16,
+            depth,
+            dzdx: round16(gx),
+            dzdy: round16(gy),
+            corners: Corners {
+                xs,
+                ys,
+                colors: v.map(|p| p.color),
+                swapped,
+                area2: reciprocal,
+            },
+        })
+    }
+
+    /// The color planes of this triangle for `source` (the lighting of the
+    /// midpoints and the quadratic fit happen here).
+    pub fn color_planes(&self, source: ColorSource) -> ColorPlanes {
+        let Corners {
+            xs,
+            ys,
+            colors,
+            swapped,
+            area2,
+        } = self.corners;
+        let (x0, y0) = (self.x0 as i64, self.y0 as i64);
+        let half = 1i64 << (SUBPIXEL_BITS - 1);
+        let center = ((x0 << SUBPIXEL_BITS) + half, (y0 << SUBPIXEL_BITS) + half);
+        let linear = || color_planes(&colors, &xs, &ys, center, area2);
         // Normals follow the vertices' order.
         let ordered = |mut lighting: TriangleLighting| {
             if swapped {
@@ -270,16 +329,15 @@ impl TriangleSetup {
             }
             lighting
         };
-        let colors = match colors {
+        match source {
             ColorSource::Constant(c) => ColorPlanes::Constant(c),
             ColorSource::Linear => ColorPlanes::Linear(linear()),
             ColorSource::Quadratic(lighting) => {
-                let vertices = v.map(|p| p.color);
                 let samples = QuadraticSamples {
-                    vertices,
-                    midpoints: light_midpoints(&ordered(lighting), &vertices),
+                    vertices: colors,
+                    midpoints: light_midpoints(&ordered(lighting), &colors),
                 };
-                let size = (x1 - x0 + 1, y1 - y0 + 1);
+                let size = (self.x1 as i64 - x0 + 1, self.y1 as i64 - y0 + 1);
                 let fitted = if samples_are_planar(&samples) {
                     None
                 } else {
@@ -303,17 +361,6 @@ impl TriangleSetup {
                     None => ColorPlanes::Constant(lighting.base),
                 }
             }
-        };
-        Ok(Self {
-            edges,
-            x0: x0 as u16,
-            y0: y0 as u16,
-            x1: x1 as u16,
-            y1: y1 as u16,
-            depth,
-            dzdx: round16(gx),
-            dzdy: round16(gy),
-            colors,
-        })
+        }
     }
 }

@@ -80,7 +80,7 @@
 //! 2048-pixel screen; the output adds one rounding to 8 bits and the clamp to
 //! `[0, 255]`.
 
-use crate::fixed_point::{GUARD_BAND_PX, SUBPIXEL_BITS, UNIT_BITS};
+use crate::fixed_point::{Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS, UNIT_BITS};
 use crate::lighting::{normalize_unit, ColorQ8, LightSetup};
 use crate::setup::{ColorSource, Plane};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -163,13 +163,6 @@ impl QuadraticPolynomial {
     }
 }
 
-/// `n / d` rounded to nearest (halves away from zero), for `d > 0`.
-#[inline]
-fn div_round(n: i64, d: i64) -> i64 {
-    let half = d >> 1;
-    (if n < 0 { n - half } else { n + half }) / d
-}
-
 /// `v / 2^n` rounded to nearest (halves up).
 #[inline]
 fn shift_round(v: i64, n: u32) -> i64 {
@@ -233,12 +226,14 @@ pub fn fit_quadratic(
     let q = bits_above(size.1);
     // s * area2 = (x - x0) dy2 - (y - y0) dx2 with x = 16 (x0 + u 2^p) + 8 ...;
     // [value at the origin, change over u in [0, 1], change over v in [0, 1]].
+    // One reciprocal of the area for the six plane coefficients.
+    let reciprocal = Reciprocal::new(area2 as u64);
     let plane = |n0: i64, nx: i64, ny: i64| {
         let scale = SUBPIXEL_BITS + BARYCENTRIC_BITS;
         [
-            div_round((sign * n0) << BARYCENTRIC_BITS, area2),
-            div_round((sign * nx) << (scale + p), area2),
-            div_round((sign * ny) << (scale + q), area2),
+            reciprocal.mul_div_round(sign * n0, BARYCENTRIC_BITS),
+            reciprocal.mul_div_round(sign * nx, scale + p),
+            reciprocal.mul_div_round(sign * ny, scale + q),
         ]
     };
     let [s0, su, sv] = plane(u0 * dy2 - v0 * dx2, dy2, -dx2);
@@ -493,6 +488,27 @@ pub trait ColorWalk {
     fn color(&self, row: &Self::Row) -> Rgb888;
     /// Moves `row` one pixel to the right.
     fn step(&self, row: &mut Self::Row);
+    /// Moves `row` `n` pixels to the right: the same state as `n` steps.
+    #[inline]
+    fn skip(&self, row: &mut Self::Row, n: u16) {
+        for _ in 0..n {
+            self.step(row);
+        }
+    }
+}
+
+/// An 8-bit channel from a value with `bits` fraction bits: rounded, then
+/// clamped to `[0, 255]` with one comparison in the common case.
+#[inline(always)]
+fn channel(v: i64, bits: u32) -> u8 {
+    let c = (v + (1 << (bits - 1))) >> bits;
+    if (c as u64) <= 255 {
+        c as u8
+    } else if c < 0 {
+        0
+    } else {
+        255
+    }
 }
 
 /// One color everywhere.
@@ -516,7 +532,7 @@ impl ColorWalk for ConstantWalk {
 /// A channel with 16 fraction bits to 8 bits, rounded and clamped.
 #[inline]
 fn channel16(v: i64) -> u8 {
-    ((v + (1 << 15)) >> 16).clamp(0, 255) as u8
+    channel(v, 16)
 }
 
 /// Linear color planes (Gouraud): one addition per channel and pixel.
@@ -561,12 +577,18 @@ impl ColorWalk for LinearWalk {
             row[c] += self.dx[c];
         }
     }
+    #[inline]
+    fn skip(&self, row: &mut [i64; 3], n: u16) {
+        for c in 0..3 {
+            row[c] += self.dx[c] * n as i64;
+        }
+    }
 }
 
 /// A quadratic channel in [`QUADRATIC_FRACTION_BITS`] to 8 bits, rounded and clamped.
 #[inline]
 fn channel_quadratic(v: i64) -> u8 {
-    ((v + (1 << (QUADRATIC_FRACTION_BITS - 1))) >> QUADRATIC_FRACTION_BITS).clamp(0, 255) as u8
+    channel(v, QUADRATIC_FRACTION_BITS)
 }
 
 /// Quadratic colors by forward differences: per pixel and channel the value
@@ -644,6 +666,17 @@ impl ColorWalk for QuadraticWalk {
         for c in 0..3 {
             row.value[c] += row.first_x[c];
             row.first_x[c] += self.second_x[c];
+        }
+    }
+    #[inline]
+    fn skip(&self, row: &mut QuadraticRow, n: u16) {
+        // n steps at once: the value grows by n D + s n (n - 1) / 2, the
+        // difference D by n s (s the second difference); the same integers.
+        let n = n as i64;
+        let triangle = n * (n - 1) / 2;
+        for c in 0..3 {
+            row.value[c] += n * row.first_x[c] + triangle * self.second_x[c];
+            row.first_x[c] += n * self.second_x[c];
         }
     }
 }

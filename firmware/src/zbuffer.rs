@@ -57,6 +57,29 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
     }
 
     #[inline]
+    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+        let stored = self.depth[row as usize * self.width as usize + x as usize];
+        stored != EMPTY_DEPTH && 16 * (stored as i64) < depth
+    }
+
+    fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
+        self.stats.culling_depth_tests += pixels as u64;
+        self.stats.triangles_culled += hidden as u64;
+    }
+
+    #[inline]
+    fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<Mask1x1>) -> bool {
+        let p = row as usize * self.width as usize + x as usize;
+        if fragment.z <= self.depth[p] {
+            return true;
+        }
+        self.stats.fragments_generated += 1;
+        self.stats.depth_tests += 1;
+        self.stats.fragments_hidden_on_arrival += 1;
+        false
+    }
+
+    #[inline]
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<Mask1x1>) {
         self.stats.fragments_generated += 1;
         self.stats.depth_tests += 1;

@@ -241,17 +241,12 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
     fn draw_triangle(
         &mut self,
         vertices: &[SetupVertex; 3],
-        params: &DrawParams,
+        params: &DrawParams<'_>,
         band_y0: u16,
         band_rows: u16,
     ) -> Result<(), Rejection> {
-        let setup = TriangleSetup::new(
-            vertices,
-            params.cull_backfaces,
-            params.colors,
-            params.width,
-            params.height,
-        )?;
+        let setup =
+            TriangleSetup::new(vertices, params.cull_backfaces, params.width, params.height)?;
         let rows = band_rows.min(self.rows);
         if rows == 0 {
             return Ok(());
@@ -264,7 +259,9 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
         let r1 = ((setup.y1 as u32).min(band_last) - band_y0 as u32) as u16;
         let cols = (setup.x0, setup.x1.min(self.width - 1));
         if self.reject_tiles(&setup, band_y0, cols, (r0, r1)) {
-            rasterize(&setup, band_y0, rows, self);
+            rasterize(&setup, band_y0, rows, self, || {
+                setup.color_planes((params.colors)())
+            });
         } else {
             self.stats.triangles_culled += 1;
         }
@@ -340,10 +337,10 @@ mod tests {
         }
     }
 
-    fn params(c: u8) -> DrawParams {
+    fn params(colors: &dyn Fn() -> ColorSource) -> DrawParams<'_> {
         DrawParams {
             cull_backfaces: false,
-            colors: ColorSource::Constant(Rgb888::new(c, c, c)),
+            colors,
             width: W,
             height: H,
         }
@@ -370,8 +367,9 @@ mod tests {
             plain.begin_band(y0, rows);
             hiz.begin_band(y0, rows);
             for (t, c) in triangles {
-                let _ = plain.draw_triangle(t, &params(*c), y0, rows);
-                let _ = hiz.draw_triangle(t, &params(*c), y0, rows);
+                let colors = || ColorSource::Constant(Rgb888::new(*c, *c, *c));
+                let _ = plain.draw_triangle(t, &params(&colors), y0, rows);
+                let _ = hiz.draw_triangle(t, &params(&colors), y0, rows);
             }
             for row in 0..rows {
                 plain.resolve_row(row, bg, &mut line);

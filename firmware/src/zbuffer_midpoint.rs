@@ -479,6 +479,7 @@ impl<'a> MidpointZBuffer<'a> {
     fn draw_pieces(
         &mut self,
         setup: &TriangleSetup,
+        colors: &ColorPlanes,
         root: Piece,
         band: (u16, u16),
         log: &mut ActionLog,
@@ -509,7 +510,7 @@ impl<'a> MidpointZBuffer<'a> {
                 }
                 action => {
                     let untested = action == Action::DrawUntested;
-                    self.draw_piece(setup, &piece, band_y0, rows, untested);
+                    self.draw_piece(setup, colors, &piece, band_y0, rows, untested);
                 }
             }
         }
@@ -519,6 +520,7 @@ impl<'a> MidpointZBuffer<'a> {
     fn draw_piece(
         &mut self,
         setup: &TriangleSetup,
+        colors: &ColorPlanes,
         piece: &Piece,
         band_y0: u16,
         band_rows: u16,
@@ -526,7 +528,7 @@ impl<'a> MidpointZBuffer<'a> {
     ) {
         self.untested = untested;
         if piece.level == 0 {
-            rasterize(setup, band_y0, band_rows, self);
+            rasterize(setup, band_y0, band_rows, self, || *colors);
         } else {
             // Pieces are often slivers whose bounding box is mostly empty:
             // walk them in strips of rows, each over the columns the piece
@@ -543,8 +545,9 @@ impl<'a> MidpointZBuffer<'a> {
                     let x0 = x0.max(setup.x0 as i64);
                     let x1 = x1.min(setup.x1 as i64);
                     if x0 <= x1 {
-                        let part = piece_setup(setup, piece, (x0, x1), (y0, y1));
-                        rasterize(&part, band_y0, band_rows, self);
+                        let (part, part_colors) =
+                            piece_setup(setup, colors, piece, (x0, x1), (y0, y1));
+                        rasterize(&part, band_y0, band_rows, self, || part_colors);
                     }
                 }
                 y0 = y1 + 1;
@@ -639,10 +642,11 @@ fn columns_in_rows(piece: &Piece, y0: i64, y1: i64) -> Option<(i64, i64)> {
 /// box's first pixel.
 fn piece_setup(
     setup: &TriangleSetup,
+    colors: &ColorPlanes,
     piece: &Piece,
     columns: (i64, i64),
     rows: (i64, i64),
-) -> TriangleSetup {
+) -> (TriangleSetup, ColorPlanes) {
     let xs = piece.corners.map(|p| p.x as i64);
     let ys = piece.corners.map(|p| p.y as i64);
     let ((x0, x1), (y0, y1)) = (columns, rows);
@@ -664,7 +668,7 @@ fn piece_setup(
         };
     }
     let (di, dj) = (x0 - setup.x0 as i64, y0 - setup.y0 as i64);
-    let colors = match &setup.colors {
+    let colors = match colors {
         ColorPlanes::Constant(c) => ColorPlanes::Constant(*c),
         ColorPlanes::Linear(p) => ColorPlanes::Linear(p.map(|p| shift_plane(&p, di, dj))),
         ColorPlanes::Quadratic(q) => ColorPlanes::Quadratic(q.map(|q| shift_quadratic(&q, di, dj))),
@@ -673,7 +677,7 @@ fn piece_setup(
             ..*p
         }),
     };
-    TriangleSetup {
+    let part = TriangleSetup {
         edges,
         x0: x0 as u16,
         y0: y0 as u16,
@@ -682,8 +686,9 @@ fn piece_setup(
         depth: shift_plane(&setup.depth, di, dj),
         dzdx: setup.dzdx,
         dzdy: setup.dzdy,
-        colors,
-    }
+        corners: setup.corners,
+    };
+    (part, colors)
 }
 
 /// The corners of a triangle in the order and the range the triangle setup
@@ -720,17 +725,12 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
     fn draw_triangle(
         &mut self,
         vertices: &[SetupVertex; 3],
-        params: &DrawParams,
+        params: &DrawParams<'_>,
         band_y0: u16,
         band_rows: u16,
     ) -> Result<(), Rejection> {
-        let setup = TriangleSetup::new(
-            vertices,
-            params.cull_backfaces,
-            params.colors,
-            params.width,
-            params.height,
-        )?;
+        let setup =
+            TriangleSetup::new(vertices, params.cull_backfaces, params.width, params.height)?;
         let rows = band_rows.min(self.rows);
         if rows == 0 {
             return Ok(());
@@ -745,7 +745,8 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
         let band = (band_y0, rows);
         let judged = self.judge_pieces(&setup, root, band, &mut log);
         if judged.drawn {
-            self.draw_pieces(&setup, root, band, &mut log);
+            let colors = setup.color_planes((params.colors)());
+            self.draw_pieces(&setup, &colors, root, band, &mut log);
         } else if judged.culled {
             self.stats.triangles_culled += 1;
         }
@@ -803,7 +804,7 @@ mod tests {
         }
     }
 
-    fn params(colors: ColorSource) -> DrawParams {
+    fn params(colors: &dyn Fn() -> ColorSource) -> DrawParams<'_> {
         DrawParams {
             cull_backfaces: false,
             colors,
@@ -828,7 +829,8 @@ mod tests {
             let rows = band.min(H - y0);
             buffer.begin_band(y0, rows);
             for t in triangles {
-                let _ = buffer.draw_triangle(t, &params(colors), y0, rows);
+                let source = || colors;
+                let _ = buffer.draw_triangle(t, &params(&source), y0, rows);
             }
             for row in 0..rows {
                 buffer.resolve_row(row, bg, &mut line);

@@ -207,11 +207,11 @@ fn run<M: CoverageMask>(u: &mut Unstructured<'_>) -> Result<()> {
         _ => ColorSource::Phong(lighting(u)?),
     };
     let cull = u.arbitrary()?;
-    let setup = TriangleSetup::new(&v, cull, colors, width, height);
+    let setup = TriangleSetup::new(&v, cull, width, height);
     if std::env::var_os("FUZZ_PRINT").is_some() {
         eprintln!(
             "setup: {:?}",
-            setup.as_ref().map(|s| s.colors).map_err(|e| *e)
+            setup.as_ref().map(|s| s.color_planes(colors)).map_err(|e| *e)
         );
     }
     let Ok(setup) = setup else {
@@ -227,7 +227,9 @@ fn run<M: CoverageMask>(u: &mut Unstructured<'_>) -> Result<()> {
         rows,
         masks: vec![None; width as usize * rows as usize],
     };
-    rasterize(&setup, band_y0, rows, &mut recorder);
+    rasterize(&setup, band_y0, rows, &mut recorder, || {
+        setup.color_planes(colors)
+    });
     for row in 0..rows {
         for x in 0..width {
             let expected = exact_mask::<M>(&v, x, band_y0 + row);

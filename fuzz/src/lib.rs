@@ -685,6 +685,25 @@ impl<M: CoverageMask> BandBuffer<M> for Checked<'_, M> {
         self.check_pixel(x, row);
     }
 
+    fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<M>) -> bool {
+        assert!(self.open, "fragment outside a band");
+        assert!(x < self.inner.width() && row < self.rows);
+        let before: Vec<Fragment<M>> = self.inner.fragments(x, row).collect();
+        let survives = self.inner.survives(x, row, fragment);
+        let after: Vec<Fragment<M>> = self.inner.fragments(x, row).collect();
+        assert_eq!(before, after, "asking whether a fragment survives changed the pixel");
+        survives
+    }
+
+    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+        assert!(x < self.inner.width() && row < self.rows);
+        self.inner.hides(x, row, depth)
+    }
+
+    fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
+        self.inner.count_triangle_test(pixels, hidden)
+    }
+
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
         assert!(row < self.rows);
         self.inner.resolve_row(row, background, out)
@@ -789,6 +808,17 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for InBand<B> {
     fn begin_band(&mut self, y0: u16, rows: u16) {
         self.rows = rows;
         self.inner.begin_band(y0, rows)
+    }
+    fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<M>) -> bool {
+        assert!(x < self.inner.width() && row < self.rows);
+        self.inner.survives(x, row, fragment)
+    }
+    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+        assert!(x < self.inner.width() && row < self.rows);
+        self.inner.hides(x, row, depth)
+    }
+    fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
+        self.inner.count_triangle_test(pixels, hidden)
     }
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
         assert!(

@@ -55,8 +55,8 @@ pub struct FitArgs {
     /// SRAM of the board, in bytes or with a K suffix (KiB).
     #[arg(long, default_value = "128K", value_parser = parse_bytes)]
     pub ram: usize,
-    /// Bytes kept free for the stack.
-    #[arg(long, default_value_t = 8192)]
+    /// Bytes kept free for the stack (the firmware build scripts' default).
+    #[arg(long, default_value_t = 10240)]
     pub stack: usize,
     /// Also run a turntable of this many frames on the host: worst pool peak.
     #[arg(long)]

@@ -8,7 +8,7 @@ use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::{Fragment, PackedFragment};
 use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
 use mcu_abuffer::pool::PoolAddress;
-use mcu_abuffer::raster::rasterize;
+use mcu_abuffer::raster::{hidden_in_band, rasterize};
 use mcu_abuffer::renderer::{
     render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
 };
@@ -196,6 +196,17 @@ struct CountingBuffer<'m, B> {
     forward_triangles: bool,
 }
 
+impl<B> CountingBuffer<'_, B> {
+    /// Counts one generated fragment at `(x, row)` of the current band.
+    fn count<M: CoverageMask>(&mut self, x: u16, row: u16)
+    where
+        B: BandBuffer<M>,
+    {
+        let i = (self.y0 as usize + row as usize) * self.inner.width() as usize + x as usize;
+        self.generated[i] = self.generated[i].saturating_add(1);
+    }
+}
+
 impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> {
     fn width(&self) -> u16 {
         self.inner.width()
@@ -210,7 +221,7 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
     fn draw_triangle(
         &mut self,
         vertices: &[SetupVertex; 3],
-        params: &DrawParams,
+        params: &DrawParams<'_>,
         band_y0: u16,
         band_rows: u16,
     ) -> Result<(), Rejection> {
@@ -219,19 +230,31 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
                 .inner
                 .draw_triangle(vertices, params, band_y0, band_rows);
         }
-        let setup = TriangleSetup::new(
-            vertices,
-            params.cull_backfaces,
-            params.colors,
-            params.width,
-            params.height,
-        )?;
-        rasterize(&setup, band_y0, band_rows, self);
+        let setup =
+            TriangleSetup::new(vertices, params.cull_backfaces, params.width, params.height)?;
+        if hidden_in_band(&setup, band_y0, band_rows, self) {
+            return Ok(());
+        }
+        rasterize(&setup, band_y0, band_rows, self, || {
+            setup.color_planes((params.colors)())
+        });
         Ok(())
     }
+    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+        self.inner.hides(x, row, depth)
+    }
+    fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
+        self.inner.count_triangle_test(pixels, hidden)
+    }
+    fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<M>) -> bool {
+        let survives = self.inner.survives(x, row, fragment);
+        if !survives {
+            self.count(x, row);
+        }
+        survives
+    }
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
-        let i = (self.y0 as usize + row as usize) * self.inner.width() as usize + x as usize;
-        self.generated[i] = self.generated[i].saturating_add(1);
+        self.count(x, row);
         self.inner.insert(x, row, fragment)
     }
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {

@@ -193,14 +193,8 @@ fn set_up(
         dy: gy,
     };
     // The color model: the library's planes over the same bounding box.
-    let library = TriangleSetup::new(
-        &v.map(|p| p.for_setup()),
-        cull_backfaces,
-        source,
-        width,
-        height,
-    )
-    .map_err(|_| Rejection::Degenerate)?;
+    let library = TriangleSetup::new(&v.map(|p| p.for_setup()), cull_backfaces, width, height)
+        .map_err(|_| Rejection::Degenerate)?;
     if (library.x0 as i64, library.y0 as i64) != (x0, y0) {
         return Err(Rejection::Degenerate);
     }
@@ -211,7 +205,7 @@ fn set_up(
         x1: x1 as i32,
         y1: y1 as i32,
         depth,
-        colors: library.colors,
+        colors: library.color_planes(source),
     })
 }
 

@@ -116,9 +116,20 @@ fn one_sample_per_pixel_is_the_zbuffer_exactly() {
                     .filter(|(a, b)| a != b)
                     .count()
             );
-            // Same fragments per pixel too: triangles covering the center.
-            assert_eq!(z.generated_per_pixel, s.generated_per_pixel, "{name}");
-            assert_eq!(z.stored_per_pixel, s.stored_per_pixel, "{name}");
+            // The z-buffer skips triangles hidden in a whole band before
+            // making their fragments, so it generates no more per pixel than
+            // the triangles covering the center, and stores the same.
+            assert!(
+                z.generated_per_pixel
+                    .iter()
+                    .zip(&s.generated_per_pixel)
+                    .all(|(z, s)| z <= s),
+                "{name}: more fragments than covering triangles"
+            );
+            assert!(
+                z.stored_per_pixel == s.stored_per_pixel,
+                "{name}: stored per pixel"
+            );
         }
     }
     // The clipped scene does exercise clipping.

@@ -5,6 +5,7 @@
 
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
+use mcu_abuffer::clip::{clip_triangle, ClipVertex};
 use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::{Fragment, PackedFragment};
@@ -589,10 +590,12 @@ impl OwnedScene {
         vec![self.object(obj, &obj.triangles[t..t + 1])]
     }
 
-    /// The order in which the renderer visits triangles within a pixel: sorted by
-    /// the first image row of their (unclipped) window bounding box, stable in scene
-    /// order; clipped triangles count as row 0. Triangles the renderer skips (outside,
-    /// back-facing, degenerate) get `None`. Mirrors the binning of `render_frame`.
+    /// The order in which the renderer visits triangles within a pixel: triangles
+    /// facing the viewer before those facing away, each sorted by the first image
+    /// row of their window bounding box (of the clipped polygon for clipped
+    /// triangles, which count as facing the viewer), stable in scene order.
+    /// Triangles the renderer skips (outside, back-facing and culled, degenerate)
+    /// get `None`. Mirrors the binning and the band passes of `render_frame`.
     pub fn visiting_order(&self) -> Vec<((usize, usize), Option<u16>)> {
         let view = ViewBasis::new(&self.camera).expect("camera basis");
         let (w, h) = (self.width as i32, self.height as i32);
@@ -609,10 +612,24 @@ impl OwnedScene {
             for (ti, tri) in o.triangles.iter().enumerate() {
                 let clip = tri.map(|v| xf.to_clip(&o.positions[v as usize]));
                 let codes = clip.map(|c| outcode(&c));
+                let mut back = false;
                 let row = if codes[0] & codes[1] & codes[2] != 0 {
                     None
                 } else if codes[0] | codes[1] | codes[2] != 0 {
-                    Some(0)
+                    let input = clip.map(|c| ClipVertex {
+                        clip: c,
+                        color: [0; 3],
+                        normal: [0; 3],
+                    });
+                    let poly = clip_triangle(&input, codes[0] | codes[1] | codes[2]);
+                    let ys: Vec<i32> = poly.vertices[..poly.len]
+                        .iter()
+                        .map(|v| project(&v.clip).1 >> 4)
+                        .collect();
+                    match (ys.iter().min(), ys.iter().max()) {
+                        (Some(&lo), Some(&hi)) if hi >= 0 && lo < h => Some(lo.max(0) as u16),
+                        _ => None,
+                    }
                 } else {
                     let sv = clip.map(|c| {
                         let (x, y, z) = project(&c);
@@ -628,6 +645,7 @@ impl OwnedScene {
                     let max_x = sv.iter().map(|v| v.x).max().unwrap_or(0) >> 4;
                     let min_y = sv.iter().map(|v| v.y).min().unwrap_or(0) >> 4;
                     let max_y = sv.iter().map(|v| v.y).max().unwrap_or(0) >> 4;
+                    back = is_backfacing(area2);
                     if area2 == 0
                         || (o.cull && is_backfacing(area2))
                         || max_x < 0
@@ -640,12 +658,14 @@ impl OwnedScene {
                         Some(min_y.max(0) as u16)
                     }
                 };
-                keyed.push(((oi, ti), row));
+                keyed.push(((oi, ti), row, back));
             }
         }
-        // Stable sort: skipped ones last, the rest by row.
-        keyed.sort_by_key(|&(_, row)| row.map_or(u32::MAX, |r| r as u32));
-        keyed
+        // Stable sort: skipped ones last, the rest by facing, then row.
+        keyed.sort_by_key(|&(_, row, back)| {
+            row.map_or(u32::MAX, |r| r as u32 + ((back as u32) << 16))
+        });
+        keyed.into_iter().map(|(t, row, _)| (t, row)).collect()
     }
 }
 

@@ -308,18 +308,20 @@ fn depth_complexity_one_thousand() {
     let s = scene(w, h, camera(20.0, 30.0, 1.0, 100.0), objects);
     let objects = s.objects();
     let lib = s.scene(&objects);
-    let ((_, stats, _), _) = assert_oracle::<Mask4x4>(&lib, 5);
+    let ((_, stats, _), reference) = assert_oracle::<Mask4x4>(&lib, 5);
     let pixels = w as u64 * h as u64;
-    assert_eq!(
-        stats.buffer.fragments_generated,
-        1000 * pixels,
-        "every triangle covers every pixel"
-    );
-    // The smallest memory and a typical one: nothing lost, budgets kept.
+    // The per-sample reference takes every fragment; the A-buffer skips the
+    // triangles that it already hides in a whole band.
+    let covered = (0..h).all(|y| (0..w).all(|x| reference.hits(x, y, 0) == 1000));
+    assert!(covered, "every triangle covers every pixel");
+    assert!(stats.buffer.fragments_generated >= pixels);
+    assert!(stats.buffer.triangles_culled > 0);
+    // The smallest memory and a typical one: budgets kept, every triangle set up.
     for (main, extra, pool, band) in [(1, 0, 0, 1), (1, 2, 64, 4), (3, 0, 1, 30)] {
         let mut storage = shared::<Mask4x4>(w, band, main, extra, pool);
         let (_, stats, _) = checked_render(&lib, &mut storage);
-        assert_eq!(stats.buffer.fragments_generated, 1000 * pixels);
+        assert!(stats.buffer.fragments_generated >= pixels);
+        assert!(stats.geometry.triangle_setups as u64 >= 1000 * h.div_ceil(band) as u64);
         assert!(stats.buffer.max_fragments_in_pixel <= (main + extra) as u32);
         assert!(stats.buffer.merges > 0);
     }
@@ -644,12 +646,10 @@ fn five_thousand_triangles_in_one_row() {
         - stats.geometry.triangles_degenerate;
     assert!(drawn > 4500, "{drawn}");
     assert_eq!(stats.geometry.triangle_setups, drawn);
+    // The smallest memory sets up every triangle too (none is dropped for room).
     let mut storage = shared::<Mask8x8>(w, 1, 1, 0, 0);
     let (_, small, _) = checked_render(&lib, &mut storage);
-    assert_eq!(
-        small.buffer.fragments_generated,
-        stats.buffer.fragments_generated
-    );
+    assert_eq!(small.geometry.triangle_setups, drawn);
 
     // The active list is the workspace's triangle order: one entry short is an error.
     let n = lib.triangle_count();

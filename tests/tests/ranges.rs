@@ -285,7 +285,7 @@ fn setup_and_rasterization_at_the_guard_band() {
         } else {
             (1, 2048)
         };
-        let Ok(setup) = TriangleSetup::new(&v, false, colors, w, h) else {
+        let Ok(setup) = TriangleSetup::new(&v, false, w, h) else {
             continue;
         };
         for e in &setup.edges {
@@ -297,7 +297,8 @@ fn setup_and_rasterization_at_the_guard_band() {
         );
         assert!(setup.depth.origin.unsigned_abs() < 1 << 59);
         assert!(setup.dzdx.abs() <= GRADIENT_LIMIT && setup.dzdy.abs() <= GRADIENT_LIMIT);
-        if let ColorPlanes::Linear(planes) = setup.colors {
+        let planes = setup.color_planes(colors);
+        if let ColorPlanes::Linear(planes) = planes {
             gouraud += 1;
             for p in &planes {
                 assert!(p.dx.unsigned_abs() < 1 << 46 && p.dy.unsigned_abs() < 1 << 46);
@@ -318,6 +319,7 @@ fn setup_and_rasterization_at_the_guard_band() {
                 band_y0.min(h - 1),
                 2.min(h - band_y0.min(h - 1)),
                 &mut sink,
+                || planes,
             );
         }
     }

@@ -134,7 +134,7 @@ fn draw<M: CoverageMask>(tris: &[Tri], what: &str) -> SampleCounter<M> {
             z: 1000,
             color: [0; 3],
         });
-        let setup = match TriangleSetup::new(&v, false, ColorSource::Linear, W, H) {
+        let setup = match TriangleSetup::new(&v, false, W, H) {
             Ok(s) => s,
             Err(Rejection::Degenerate) | Err(Rejection::Outside) => continue,
             Err(Rejection::Backfacing) => unreachable!("culling is off"),
@@ -142,7 +142,9 @@ fn draw<M: CoverageMask>(tris: &[Tri], what: &str) -> SampleCounter<M> {
         counter.triangles += 1;
         counter.on_edge += on_edge_samples::<M>(&setup);
         counter.new.clear();
-        rasterize::<M, _>(&setup, 0, H, &mut counter);
+        rasterize::<M, _, _>(&setup, 0, H, &mut counter, || {
+            setup.color_planes(ColorSource::Linear)
+        });
         let new = std::mem::take(&mut counter.new);
         check_exact::<M>(t, &new, what);
         for &(x, y, mask) in &new {
@@ -698,18 +700,13 @@ fn rasterize_with_an_empty_band_draws_nothing() {
         z: 100,
         color: [0; 3],
     };
-    let setup = TriangleSetup::new(
-        &[v(0, 0), v(64, 0), v(0, 64)],
-        false,
-        ColorSource::Linear,
-        W,
-        H,
-    )
-    .expect("setup");
+    let setup = TriangleSetup::new(&[v(0, 0), v(64, 0), v(0, 64)], false, W, H).expect("setup");
     let mut counter = SampleCounter::<Mask4x4>::new();
     counter.begin_band(0, H);
     for band_y0 in [5, 0] {
-        rasterize::<Mask4x4, _>(&setup, band_y0, 0, &mut counter);
+        rasterize::<Mask4x4, _, _>(&setup, band_y0, 0, &mut counter, || {
+            setup.color_planes(ColorSource::Linear)
+        });
     }
     assert_eq!(counter.stats().fragments_generated, 0);
 }

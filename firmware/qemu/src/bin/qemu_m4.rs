@@ -146,6 +146,7 @@ struct StageTicks {
     frame_start: u64,
     first_band: u64,
     setup: u64,
+    colors: u64,
     raster: u64,
     insert: u64,
     resolve: u64,
@@ -173,7 +174,7 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
     fn draw_triangle(
         &mut self,
         vertices: &[mcu_abuffer::setup::SetupVertex; 3],
-        params: &mcu_abuffer::band_buffer::DrawParams,
+        params: &mcu_abuffer::band_buffer::DrawParams<'_>,
         band_y0: u16,
         band_rows: u16,
     ) -> Result<(), mcu_abuffer::setup::Rejection> {
@@ -181,17 +182,47 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
         let setup = mcu_abuffer::setup::TriangleSetup::new(
             vertices,
             params.cull_backfaces,
-            params.colors,
             params.width,
             params.height,
         );
         let t1 = ticks();
         self.ticks.setup += t1 - t0;
         let setup = setup?;
+        if mcu_abuffer::raster::hidden_in_band(&setup, band_y0, band_rows, self) {
+            self.ticks.setup += ticks() - t1;
+            return Ok(());
+        }
+        let t1 = ticks();
         let inserts_before = self.ticks.insert;
-        mcu_abuffer::raster::rasterize(&setup, band_y0, band_rows, self);
-        self.ticks.raster += ticks() - t1 - (self.ticks.insert - inserts_before);
+        let color_ticks = core::cell::Cell::new(0u64);
+        let colors = || {
+            let c0 = ticks();
+            let planes = setup.color_planes((params.colors)());
+            color_ticks.set(color_ticks.get() + ticks() - c0);
+            planes
+        };
+        mcu_abuffer::raster::rasterize(&setup, band_y0, band_rows, self, colors);
+        self.ticks.colors += color_ticks.get();
+        self.ticks.raster +=
+            ticks() - t1 - (self.ticks.insert - inserts_before) - color_ticks.get();
         Ok(())
+    }
+    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+        self.inner.hides(x, row, depth)
+    }
+    fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
+        self.inner.count_triangle_test(pixels, hidden)
+    }
+    fn survives(
+        &mut self,
+        x: u16,
+        row: u16,
+        fragment: &mcu_abuffer::fragment::Fragment<M>,
+    ) -> bool {
+        let t0 = ticks();
+        let survives = self.inner.survives(x, row, fragment);
+        self.ticks.insert += ticks() - t0;
+        survives
     }
     fn insert(&mut self, x: u16, row: u16, fragment: &mcu_abuffer::fragment::Fragment<M>) {
         let t0 = ticks();
@@ -272,13 +303,15 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
             let k = INSTRUCTIONS_PER_TICK;
             let p = &profile;
             let geometry = p.first_band.saturating_sub(p.frame_start);
-            let other = total
-                .saturating_sub(geometry + p.setup + p.raster + p.insert + p.resolve + sink.ticks);
+            let other = total.saturating_sub(
+                geometry + p.setup + p.colors + p.raster + p.insert + p.resolve + sink.ticks,
+            );
             defmt::info!(
-                "profile frame {=usize} (instructions): transform+binning {=u64}, setup {=u64}, raster {=u64}, insert {=u64}, resolve {=u64}, output {=u64}, band loop {=u64}",
+                "profile frame {=usize} (instructions): transform+binning {=u64}, setup {=u64}, colors {=u64}, raster {=u64}, insert {=u64}, resolve {=u64}, output {=u64}, band loop {=u64}",
                 i,
                 geometry * k,
                 p.setup * k,
+                p.colors * k,
                 p.raster * k,
                 p.insert * k,
                 p.resolve * k,

@@ -1,0 +1,149 @@
+#!/usr/bin/env python3
+"""Instructions per function of a QEMU firmware run, from QEMU's own trace.
+
+Runs an mps2-an386 (Cortex-M4F) firmware ELF under `qemu-system-arm -icount
+shift=0` with the `in_asm`, `exec` and `nochain` logs: `in_asm` gives the
+guest instructions of every translation block once, `exec` logs every
+execution of a block. Instructions per block times executions per block,
+summed by the function the block starts in (the ELF's symbols, through
+llvm-nm or nm), is an exact per-function instruction count of the run.
+
+    python3 scripts/qemu-profile.py firmware.elf [--top 40] [--workdir DIR]
+
+Build the firmware with FIRMWARE_FRAMES=1 first (the log of one 240x240 frame
+is about a gigabyte): `host-sim qemu-bench --profile-functions` does both.
+"""
+import argparse
+import bisect
+import collections
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+
+def symbols(elf):
+    """Sorted (address, name) of the ELF's function symbols, demangled."""
+    nm = shutil.which("llvm-nm") or shutil.which("nm")
+    if nm is None:
+        sys.exit("qemu-profile: needs llvm-nm or nm")
+    out = subprocess.run([nm, "--defined-only", "-C", elf], check=True,
+                         capture_output=True, text=True).stdout
+    table = []
+    for line in out.splitlines():
+        parts = line.split(" ", 2)
+        if len(parts) == 3 and parts[1] in "tTwW":
+            table.append((int(parts[0], 16) & ~1, parts[2]))
+    table.sort()
+    return table
+
+
+def short(name):
+    """A demangled name without its hash and generic noise."""
+    name = re.sub(r"::h[0-9a-f]{16}$", "", name)
+    name = re.sub(r"<[^<>]*>", "", name)
+    name = re.sub(r"<[^<>]*>", "", name)
+    return name
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("elf")
+    parser.add_argument("--top", type=int, default=40)
+    parser.add_argument("--workdir", default=None)
+    parser.add_argument("--files", action="store_true",
+                        help="also count by source file (of the innermost inlined function)")
+    parser.add_argument("--lines", default=None,
+                        help="also count by source line within functions matching this text")
+    args = parser.parse_args()
+    work = args.workdir or tempfile.mkdtemp(prefix="qemu-profile-")
+    os.makedirs(work, exist_ok=True)
+    log = os.path.join(work, "trace.log")
+    cmd = ["qemu-system-arm", "-M", "mps2-an386", "-cpu", "cortex-m4", "-nographic",
+           "-monitor", "none", "-serial", "none",
+           "-semihosting-config", "enable=on,target=native", "-icount", "shift=0",
+           "-d", "in_asm,exec,nochain", "-D", log, "-kernel", os.path.abspath(args.elf)]
+    subprocess.run(cmd, cwd=work, check=True, stdout=subprocess.DEVNULL)
+
+    blocks = {}          # block start -> its instruction addresses
+    runs = collections.Counter()
+    block = None
+    exec_re = re.compile(r"^Trace \d+: 0x[0-9a-f]+ \[[0-9a-f]+/([0-9a-f]+)/")
+    insn_re = re.compile(r"^0x([0-9a-f]+):")
+    with open(log, "r", errors="replace") as f:
+        for line in f:
+            if line.startswith("Trace"):
+                m = exec_re.match(line)
+                if m:
+                    runs[int(m.group(1), 16)] += 1
+                block = None
+            elif line.startswith("IN:"):
+                block = "start"
+            elif block is not None:
+                m = insn_re.match(line)
+                if m:
+                    pc = int(m.group(1), 16)
+                    if block == "start":
+                        block = pc
+                        blocks[block] = []
+                    blocks[block].append(pc)
+    os.remove(log)
+    per_pc = collections.Counter()
+    for start, n in runs.items():
+        for pc in blocks.get(start, []):
+            per_pc[pc] += n
+    # The innermost (inlined) function of every executed instruction.
+    pcs = sorted(per_pc)
+    symbolizer = shutil.which("llvm-symbolizer")
+    names = {}
+    lines = {}
+    if symbolizer:
+        query = "".join(f"0x{pc:x}\n" for pc in pcs)
+        out = subprocess.run([symbolizer, "--obj", args.elf, "--inlines", "--demangle",
+                              "--output-style=LLVM"], input=query, capture_output=True,
+                             text=True, check=True).stdout
+        for pc, chunk in zip(pcs, out.split("\n\n")):
+            first = chunk.strip().splitlines()[:2]
+            if first:
+                where = first[1].rsplit("/", 1)[-1] if len(first) > 1 else ""
+                names[pc] = f"{short(first[0])}  ({where.split(':')[0]})"
+                lines[pc] = where
+    table = symbols(args.elf)
+    addresses = [a for a, _ in table]
+    per_function = collections.Counter()
+    for pc, n in per_pc.items():
+        if pc in names:
+            name = names[pc]
+        else:
+            i = bisect.bisect_right(addresses, pc) - 1
+            name = short(table[i][1]) if i >= 0 else hex(pc)
+        per_function[name] += n
+    total = sum(per_function.values())
+    print(f"{total:>12,}  instructions in all")
+    for name, n in per_function.most_common(args.top):
+        print(f"{n:>12,}  {100.0 * n / total:5.1f} %  {name}")
+    if args.files:
+        per_file = collections.Counter()
+        for pc, n in per_pc.items():
+            per_file[lines.get(pc, "?").split(":")[0]] += n
+        print("by source file:")
+        for where, n in per_file.most_common(args.top):
+            print(f"{n:>12,}  {100.0 * n / total:5.1f} %  {where}")
+    if args.lines:
+        per_line = collections.Counter()
+        for pc, n in per_pc.items():
+            if args.lines in names.get(pc, ""):
+                per_line[lines[pc]] += n
+        print(f"by line, in functions matching '{args.lines}':")
+        for where, n in per_line.most_common(args.top):
+            print(f"{n:>12,}  {where}")
+        hot = [(n, pc) for pc, n in per_pc.items() if args.lines in names.get(pc, "")]
+        print("hottest instructions:")
+        for n, pc in sorted(hot, reverse=True)[: args.top]:
+            print(f"{n:>12,}  0x{pc:08x}  {lines.get(pc, '')}")
+
+
+if __name__ == "__main__":
+    main()
