@@ -2,12 +2,14 @@
 //!
 //! Meshes are generated on demand, deterministically: the Utah teapot
 //! tessellated from Newell's Bezier patches, an icosphere, a procedural
-//! starfighter and a cube. Scenes put one of them (or a few spheres) in front
-//! of a camera that frames them, with one directional light.
+//! starfighter, a lumpy closed blob and a cube. Scenes put one of them (or a
+//! few spheres) in front of a camera that frames them, with one directional
+//! light.
 //!
 //! Every mesh is wound counter-clockwise when seen from outside (OpenGL front
 //! faces) and has one unit normal per vertex.
 
+mod blob;
 mod geom;
 pub mod overdraw;
 mod shapes;
@@ -16,7 +18,7 @@ pub mod synthetic;
 mod teapot;
 mod teapot_data;
 
-use crate::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc};
+use crate::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc, ShadingDesc};
 use geom::{add, cross, dot, mul, normalize, sub, Mat3, V3};
 
 /// Names of the built-in scenes.
@@ -28,11 +30,20 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "grid",
     "knot",
     "overdraw",
+    "blob",
 ];
 
 /// Names of the built-in meshes, as accepted by [`builtin_mesh`] (besides
 /// the `teapot:N` and `sphere:N` forms).
-pub const BUILTIN_MESHES: &[&str] = &["teapot", "sphere", "starfighter", "cube", "grid", "knot"];
+pub const BUILTIN_MESHES: &[&str] = &[
+    "teapot",
+    "sphere",
+    "starfighter",
+    "blob",
+    "cube",
+    "grid",
+    "knot",
+];
 
 /// Teapot tessellation (segments per patch side) when none is given.
 pub const DEFAULT_TEAPOT_TESSELLATION: u32 = 8;
@@ -47,14 +58,15 @@ pub const DEFAULT_SPHERE_LEVEL: u32 = 3;
 pub const MAX_SPHERE_LEVEL: u32 = 8;
 
 const KNOWN_MESHES: &str = "teapot, teapot:N (N = 1..=64), sphere, sphere:N (N = 1..=8), \
-    starfighter, cube, grid[:N] (N = 1..=1024), knot[:SEGMENTS[:SIDES]]";
+    starfighter, blob, cube, grid[:N] (N = 1..=1024), knot[:SEGMENTS[:SIDES]]";
 
 /// A built-in mesh by name.
 ///
 /// Names: `teapot` (tessellation 8), `teapot:N` (N = segments per Bezier
 /// patch side, 1..=64; `32 * N * N * 2` triangles), `sphere` (unit
 /// icosphere, level 3), `sphere:N` (N = 1..=8 levels; `20 * 4^N`
-/// triangles), `starfighter`, `cube` (the cube [-1, 1]^3, 12 triangles),
+/// triangles), `starfighter`, `blob` (a lumpy closed surface, 3,700
+/// triangles), `cube` (the cube [-1, 1]^3, 12 triangles),
 /// `grid:N` (a wavy height field over [-1, 1]^2 of the XZ plane, `2 N^2`
 /// triangles) and `knot:SEGMENTS:SIDES` (a (2, 3) torus knot tube within
 /// radius 1, `2 SEGMENTS SIDES` triangles); see [`synthetic`] for their
@@ -63,7 +75,7 @@ const KNOWN_MESHES: &str = "teapot, teapot:N (N = 1..=64), sphere, sphere:N (N =
 ///
 /// The teapot sits around the origin within radius 1, lid towards +Y and
 /// spout towards +X; the starfighter has its nose towards -Z and lies within
-/// radius 1.5.
+/// radius 1.5; the blob lies between radius 0.75 and 1.15 around the origin.
 pub fn builtin_mesh(name: &str) -> Result<MeshData, String> {
     let bare = name.strip_prefix("builtin:").unwrap_or(name);
     let (base, arg) = match bare.split_once(':') {
@@ -85,6 +97,7 @@ pub fn builtin_mesh(name: &str) -> Result<MeshData, String> {
             Ok(shapes::icosphere(level))
         }
         ("starfighter", None) => Ok(starfighter::starfighter()),
+        ("blob", None) => Ok(blob::blob()),
         ("cube", None) => Ok(shapes::cube()),
         ("grid" | "knot", _) => synthetic::synthetic_mesh(bare).ok_or_else(|| {
             format!("built-in mesh '{name}': bad parameters (known: {KNOWN_MESHES})")
@@ -109,7 +122,8 @@ fn parse_param(name: &str, arg: Option<&str>, default: u32, max: u32) -> Result<
 }
 
 /// A built-in scene by name at the given image size: `teapot` (also
-/// `teapot:N` for another tessellation), `spheres`, `starfighter`, or one of
+/// `teapot:N` for another tessellation), `spheres`, `starfighter`, `blob`
+/// (the lumpy closed mesh, back faces culled, Gouraud shading), or one of
 /// the synthetic scenes `layers:N:DEPTH:SEED`, `grid:N` and
 /// `knot:SEGMENTS:SIDES` (see [`synthetic`]), or `overdraw:N:SEED` (many
 /// overlapping cubes and coarse spheres, see [`overdraw`]). `None` for an
@@ -131,6 +145,18 @@ pub fn builtin_scene(name: &str, width: u32, height: u32) -> Option<SceneDesc> {
                 builtin_mesh("starfighter").ok()?,
                 [200, 205, 210],
                 [-20.0, 145.0, 0.0],
+            )
+        }],
+        "blob" => vec![ObjectDesc {
+            // Closed, and shaded the cheap way: the scene for comparing speed
+            // with renderers that do not antialias.
+            cull_backfaces: true,
+            shading: Some(ShadingDesc::Gouraud),
+            ..object(
+                "builtin:blob",
+                builtin_mesh("blob").ok()?,
+                [205, 165, 125],
+                [25.0, 35.0, -10.0],
             )
         }],
         _ if bare == "teapot" || bare.starts_with("teapot:") => vec![object(
@@ -518,6 +544,7 @@ mod tests {
             "sphere:0",
             "sphere:9",
             "cube:2",
+            "blob:2",
         ] {
             assert!(builtin_mesh(bad).is_err(), "{bad}");
         }
@@ -545,6 +572,26 @@ mod tests {
         assert!(builtin_scene("teapot:0", 100, 100).is_none());
         assert!(builtin_scene("nothing", 100, 100).is_none());
         assert!(builtin_scene("cube", 100, 100).is_none());
+    }
+
+    #[test]
+    fn blob_scene() {
+        let mesh = builtin_mesh("blob").unwrap();
+        assert_eq!(mesh, builtin_mesh("builtin:blob").unwrap());
+        assert_eq!(mesh.triangles.len(), 3700);
+        check_basic(&mesh);
+        assert_eq!(winding_agreement(&mesh), 1.0);
+        let scene = builtin_scene("blob", 240, 240).unwrap();
+        assert_eq!(scene, builtin_scene("builtin:blob", 240, 240).unwrap());
+        let [object] = &scene.objects[..] else {
+            panic!("{} objects", scene.objects.len());
+        };
+        assert_eq!(object.mesh_name, "builtin:blob");
+        assert_eq!(object.mesh, mesh);
+        assert!(object.cull_backfaces);
+        assert_eq!(object.shading, Some(ShadingDesc::Gouraud));
+        check_framing(&scene);
+        assert!(builtin_scene("blob:2", 100, 100).is_none());
     }
 
     /// Every vertex is in view, in front of the near plane, and the
