@@ -42,6 +42,11 @@ def symbols(elf):
 
 def short(name):
     """A demangled name without its hash and generic noise."""
+    for code, text in (("$LT$", "<"), ("$GT$", ">"), ("$u20$", " "), ("$C$", ","),
+                       ("$RF$", "&"), ("$u7b$", "{"), ("$u7d$", "}"), ("$u5b$", "["),
+                       ("$u5d$", "]"), ("$u3b$", ";"), ("..", "::")):
+        name = name.replace(code, text)
+    name = name.lstrip("_")
     name = re.sub(r"::h[0-9a-f]{16}$", "", name)
     name = re.sub(r"<[^<>]*>", "", name)
     name = re.sub(r"<[^<>]*>", "", name)
