@@ -245,6 +245,35 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         }
     }
 
+    /// Calls `visit` with each of pixel `p`'s `n` fragments, nearest first
+    /// (its main slots, then the pool slots its addresses name), until it
+    /// returns `true`; returns whether it did.
+    #[inline(always)]
+    fn any_stored(
+        &self,
+        p: usize,
+        n: usize,
+        mut visit: impl FnMut(&PackedFragment<M>) -> bool,
+    ) -> bool {
+        let n_main = self.config.main_slots as usize;
+        let in_main = n.min(n_main);
+        for f in &self.main[p * n_main..p * n_main + in_main] {
+            if visit(f) {
+                return true;
+            }
+        }
+        if n > n_main {
+            let n_extra = self.config.extra_addresses as usize;
+            let first = p * n_extra;
+            for a in &self.addresses[first..first + (n - n_main)] {
+                if visit(self.pool.get(a.index())) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
     #[inline]
     fn slot_ref(&self, p: usize, i: usize) -> &PackedFragment<M> {
         match self.locate(p, i) {
@@ -440,16 +469,16 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
         let p = self.pixel_index(x, row);
         let n = self.counts[p] as usize;
-        let mut covered = M::EMPTY;
-        for i in 0..n {
-            let f = self.slot_ref(p, i);
-            // The farthest sample of the stored fragment's plane (below 2^29).
-            if f.farthest_sample_depth() as i64 >= depth {
-                return false;
-            }
-            covered = covered | f.mask();
+        if n == 0 {
+            return false;
         }
-        covered == M::FULL
+        let mut covered = M::EMPTY;
+        let farther = self.any_stored(p, n, |f| {
+            covered = covered | f.mask();
+            // The farthest sample of the stored fragment's plane (below 2^29).
+            f.farthest_sample_depth() as i64 >= depth
+        });
+        !farther && covered == M::FULL
     }
 
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
@@ -461,20 +490,19 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         let p = self.pixel_index(x, row);
         let n = self.counts[p] as usize;
         let mut left = fragment.mask;
-        for i in 0..n {
-            let stored = self.slot_ref(p, i);
+        let hidden = self.any_stored(p, n, |stored| {
             let overlap = stored.mask() & left;
-            if overlap.is_empty() {
-                continue;
+            if !overlap.is_empty() {
+                // Samples where the stored fragment is strictly nearer stay its own.
+                let vis = visibility_mask(fragment, &stored.unpack());
+                left = left & !(overlap & !vis);
             }
-            // Samples where the stored fragment is strictly nearer stay its own.
-            let vis = visibility_mask(fragment, &stored.unpack());
-            left = left & !(overlap & !vis);
-            if left.is_empty() {
-                self.stats.fragments_generated += 1;
-                self.stats.fragments_hidden_on_arrival += 1;
-                return false;
-            }
+            left.is_empty()
+        });
+        if hidden {
+            self.stats.fragments_generated += 1;
+            self.stats.fragments_hidden_on_arrival += 1;
+            return false;
         }
         true
     }
