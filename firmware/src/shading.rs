@@ -173,10 +173,13 @@ fn shift_round(v: i64, n: u32) -> i64 {
     }
 }
 
-/// `x y + z w` from Q20 factors, rounded back to Q20.
+/// `x y + z w` from Q20 factors, rounded back to Q20. Every factor is below
+/// 2^31 in magnitude (the fit checks `|s0| + |su| + |sv| < 2^30` first), so each
+/// product is one 32 x 32-bit multiplication.
 #[inline]
 fn mul2_q20(x: i64, y: i64, z: i64, w: i64) -> i64 {
-    (x * y + z * w + (1 << (BARYCENTRIC_BITS - 1))) >> BARYCENTRIC_BITS
+    let wide = |a: i64| a as i32 as i64;
+    (wide(x) * wide(y) + wide(z) * wide(w) + (1 << (BARYCENTRIC_BITS - 1))) >> BARYCENTRIC_BITS
 }
 
 /// Bits needed for `n >= 1`: the smallest `p` with `2^p > n`.
