@@ -219,10 +219,11 @@ mod sorted_4x4 {
         /// The covered samples for center value `e`.
         #[inline]
         pub fn mask(&self, e: i32) -> u16 {
-            let order = &ORDER[self.sector as usize];
+            let order = &ORDER[self.sector as usize & 31];
+            // Masked indices: in range by construction, so no bounds checks.
             let t = |k: usize| {
-                let s = order[k];
-                self.column[(s & 3) as usize] + self.row[(s >> 2) as usize]
+                let s = order[k & 15] as usize;
+                self.column[s & 3] + self.row[(s >> 2) & 3]
             };
             // How many thresholds are at most e (they rise along the order).
             let mut k = 0;
@@ -241,7 +242,7 @@ mod sorted_4x4 {
             if k == 15 && t(15) <= e {
                 k = 16;
             }
-            PREFIX[self.sector as usize][k]
+            PREFIX[self.sector as usize & 31][k.min(16)]
         }
     }
 }

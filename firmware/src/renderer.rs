@@ -489,7 +489,7 @@ fn triangle_rows(
 /// Sorts the drawn triangles by first row (counting sort, stable), returns how
 /// many. Afterwards `row_starts[r]` is the number of triangles that start at
 /// rows up to `r`, and `triangle_rows` holds each drawn triangle's last row
-/// and facing.
+/// and facing (`SKIP_ROW` for the others).
 fn bin_triangles(
     ctx: &FrameContext<'_, '_>,
     ws: &mut FrameWorkspace<'_>,
@@ -500,39 +500,41 @@ fn bin_triangles(
     ws.row_starts[..height + 1].fill(0);
     let mut g = 0usize;
     let mut binned = 0usize;
+    // Count by first row; each entry keeps its triangle's last row and facing.
     for (oi, object) in scene.objects.iter().enumerate() {
         for ti in 0..object.mesh.triangles.len() {
             let t = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
-            let entry = match triangle_rows(ctx, ws, t, stats) {
-                Some((first, _, _)) => {
+            ws.triangle_rows[g] = match triangle_rows(ctx, ws, t, stats) {
+                Some((first, last, back)) => {
                     ws.row_starts[first as usize + 1] += 1;
                     binned += 1;
-                    first
+                    last | if back { BACK_FACING } else { 0 }
                 }
                 None => SKIP_ROW,
             };
-            ws.triangle_rows[g] = entry;
             g += 1;
         }
     }
     for r in 0..height {
         ws.row_starts[r + 1] += ws.row_starts[r];
     }
-    // Scatter; then each entry becomes its triangle's last row and facing.
+    // Scatter by first row (found again: the lowest corner, or the clipped polygon's).
     let mut g = 0usize;
     let mut unused = GeometryStats::default();
     for (oi, object) in scene.objects.iter().enumerate() {
         for ti in 0..object.mesh.triangles.len() {
-            let first = ws.triangle_rows[g];
-            if first != SKIP_ROW {
+            if ws.triangle_rows[g] != SKIP_ROW {
                 let t = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
+                let v = corners(ctx, ws, t);
+                let first = if v.iter().any(|p| p.outcode != 0) {
+                    triangle_rows(ctx, ws, t, &mut unused).map_or(0, |(first, _, _)| first)
+                } else {
+                    let top = v.iter().map(|p| p.y).min().unwrap_or(0) >> SUBPIXEL_BITS;
+                    top.max(0) as u16
+                };
                 let slot = &mut ws.row_starts[first as usize];
                 ws.triangle_order[*slot as usize] = t;
                 *slot += 1;
-                ws.triangle_rows[g] = match triangle_rows(ctx, ws, t, &mut unused) {
-                    Some((_, last, back)) => last | if back { BACK_FACING } else { 0 },
-                    None => SKIP_ROW,
-                };
             }
             g += 1;
         }
