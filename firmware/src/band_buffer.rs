@@ -35,15 +35,7 @@ pub trait BandBuffer<M: CoverageMask> {
     where
         Self: Sized,
     {
-        let setup =
-            TriangleSetup::new(vertices, params.cull_backfaces, params.width, params.height)?;
-        if hidden_in_band(&setup, band_y0, band_rows, self) {
-            return Ok(());
-        }
-        rasterize(&setup, band_y0, band_rows, self, || {
-            setup.color_planes((params.colors)())
-        });
-        Ok(())
+        draw_in_band(self, vertices, params, band_y0, band_rows)
     }
     /// Whether pixel `(x, row)` holds, at every sample, something strictly
     /// nearer than `depth` (a depth at a sample, times 16, as
@@ -85,6 +77,27 @@ pub trait BandBuffer<M: CoverageMask> {
     fn stats(&self) -> BufferStats;
     /// Returns the counters and zeroes them.
     fn take_stats(&mut self) -> BufferStats;
+}
+
+/// What [`BandBuffer::draw_triangle`] does by default: sets the triangle up,
+/// skips it when `buffer` already hides it in the whole band, and otherwise
+/// rasterizes it, setting up its colors only when a fragment survives.
+/// Wrappers that override `draw_triangle` call this to draw the same way.
+pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
+    buffer: &mut B,
+    vertices: &[SetupVertex; 3],
+    params: &DrawParams<'_>,
+    band_y0: u16,
+    band_rows: u16,
+) -> Result<(), Rejection> {
+    let setup = TriangleSetup::new(vertices, params.cull_backfaces, params.width, params.height)?;
+    if hidden_in_band(&setup, band_y0, band_rows, buffer) {
+        return Ok(());
+    }
+    rasterize(&setup, band_y0, band_rows, buffer, || {
+        setup.color_planes((params.colors)())
+    });
+    Ok(())
 }
 
 /// What [`BandBuffer::draw_triangle`] needs besides the vertices.

@@ -2,17 +2,16 @@
 
 use crate::convert::FixedScene;
 use embedded_graphics_core::pixelcolor::Rgb888;
-use mcu_abuffer::band_buffer::{BandBuffer, DrawParams};
+use mcu_abuffer::band_buffer::{draw_in_band, BandBuffer, DrawParams};
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::{Fragment, PackedFragment};
 use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
 use mcu_abuffer::pool::PoolAddress;
-use mcu_abuffer::raster::{hidden_in_band, rasterize};
 use mcu_abuffer::renderer::{
     render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
 };
-use mcu_abuffer::setup::{Rejection, SetupVertex, TriangleSetup};
+use mcu_abuffer::setup::{Rejection, SetupVertex};
 use mcu_abuffer::sink::ImageSink;
 use mcu_abuffer::stats::{BufferStats, FrameStats};
 use mcu_abuffer::zbuffer::ZBuffer;
@@ -230,15 +229,7 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
                 .inner
                 .draw_triangle(vertices, params, band_y0, band_rows);
         }
-        let setup =
-            TriangleSetup::new(vertices, params.cull_backfaces, params.width, params.height)?;
-        if hidden_in_band(&setup, band_y0, band_rows, self) {
-            return Ok(());
-        }
-        rasterize(&setup, band_y0, band_rows, self, || {
-            setup.color_planes((params.colors)())
-        });
-        Ok(())
+        draw_in_band(self, vertices, params, band_y0, band_rows)
     }
     fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
         self.inner.hides(x, row, depth)
