@@ -188,11 +188,14 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
         let t1 = ticks();
         self.ticks.setup += t1 - t0;
         let setup = setup?;
-        if mcu_abuffer::raster::hidden_in_band(&setup, band_y0, band_rows, self) {
-            self.ticks.setup += ticks() - t1;
+        // The whole-triangle test counts as setup, hidden or not.
+        let hidden = mcu_abuffer::raster::hidden_in_band(&setup, band_y0, band_rows, self);
+        let t2 = ticks();
+        self.ticks.setup += t2 - t1;
+        if hidden {
             return Ok(());
         }
-        let t1 = ticks();
+        let t1 = t2;
         let inserts_before = self.ticks.insert;
         let color_ticks = core::cell::Cell::new(0u64);
         let colors = || {
