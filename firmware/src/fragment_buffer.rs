@@ -274,6 +274,33 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         false
     }
 
+    /// [`Self::any_stored`] with each fragment mutable.
+    #[inline(always)]
+    fn any_stored_mut(
+        &mut self,
+        p: usize,
+        n: usize,
+        mut visit: impl FnMut(&mut PackedFragment<M>) -> bool,
+    ) -> bool {
+        let n_main = self.config.main_slots as usize;
+        let in_main = n.min(n_main);
+        for f in &mut self.main[p * n_main..p * n_main + in_main] {
+            if visit(f) {
+                return true;
+            }
+        }
+        if n > n_main {
+            let n_extra = self.config.extra_addresses as usize;
+            let first = p * n_extra;
+            for a in &self.addresses[first..first + (n - n_main)] {
+                if visit(self.pool.get_mut(a.index())) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
     #[inline]
     fn slot_ref(&self, p: usize, i: usize) -> &PackedFragment<M> {
         match self.locate(p, i) {
@@ -520,27 +547,32 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
             return;
         }
         let mut f = *fragment;
-        // Settle every shared sample with each stored fragment (their masks are disjoint,
-        // so the order of comparison does not matter).
+        // Settle every shared sample with each stored fragment (their masks are
+        // disjoint, so the order of comparison does not matter), and find the
+        // sorted position on the way: after every stored fragment at the same or
+        // nearer depth.
         let mut emptied = false;
-        for i in 0..n {
-            let stored = self.slot_ref(p, i);
+        let mut k = n;
+        let mut position = 0;
+        self.any_stored_mut(p, n, |stored| {
+            if k == n && stored.z() > f.z {
+                k = position;
+            }
+            position += 1;
             let overlap = stored.mask() & f.mask;
             if overlap.is_empty() {
-                continue;
+                return false;
             }
             let b = stored.unpack();
             let vis = visibility_mask(&f, &b);
             let b_mask = b.mask & !(overlap & vis);
             f.mask = f.mask & !(overlap & !vis);
             if b_mask != b.mask {
-                self.slot_mut(p, i).set_mask(b_mask);
+                stored.set_mask(b_mask);
                 emptied |= b_mask.is_empty();
             }
-            if f.mask.is_empty() {
-                break;
-            }
-        }
+            f.mask.is_empty()
+        });
         if emptied {
             n = self.compact(p, n);
         }
@@ -549,12 +581,14 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
             self.counts[p] = n as u8;
             return;
         }
-        // Sorted position: after every stored fragment at the same or nearer depth.
-        let mut k = n;
-        for i in 0..n {
-            if self.slot_ref(p, i).z() > f.z {
-                k = i;
-                break;
+        if emptied {
+            // Removed fragments moved the later ones: find the position again.
+            k = n;
+            for i in 0..n {
+                if self.slot_ref(p, i).z() > f.z {
+                    k = i;
+                    break;
+                }
             }
         }
         if n < self.config.pixel_capacity() && self.insert_at(p, n, k, &f) {
@@ -565,7 +599,6 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         }
         self.counts[p] = n as u8;
         self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(n as u32);
-        self.stats.pool_peak = self.stats.pool_peak.max(self.pool.peak() as u32);
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
@@ -617,11 +650,15 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     }
 
     fn stats(&self) -> BufferStats {
-        self.stats
+        // The pool keeps its own peak, so inserting needs not copy it.
+        BufferStats {
+            pool_peak: self.stats.pool_peak.max(self.pool.peak() as u32),
+            ..self.stats
+        }
     }
 
     fn take_stats(&mut self) -> BufferStats {
-        let s = self.stats;
+        let s = self.stats();
         self.stats = BufferStats::default();
         self.pool.clear_peak();
         s
