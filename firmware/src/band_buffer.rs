@@ -21,7 +21,8 @@ pub trait BandBuffer<M: CoverageMask> {
     /// every pixel becomes empty.
     fn begin_band(&mut self, y0: u16, rows: u16);
     /// Draws one window-space triangle into the band starting at image row `band_y0`
-    /// with `band_rows` rows: sets it up and rasterizes it.
+    /// with `band_rows` rows: sets it up, skips it when the buffer already hides
+    /// it there, and rasterizes it otherwise ([`draw_in_band`]).
     ///
     /// Buffers that decide about whole triangles before rasterizing them (culling
     /// against a z-buffer) override this; the others keep the default.

@@ -4,9 +4,16 @@
 //!
 //! Per pixel, the three edge values at the center decide cheaply: when every edge
 //! clears the center by more than the farthest sample offset, the mask is full
-//! (interior pixel); when one edge is below minus that margin, it is empty. Only
-//! the remaining pixels evaluate samples, stepping each edge function across the
-//! grid with additions (SPEC section 2).
+//! (interior pixel); when one edge is below minus that margin, the pixel is ruled
+//! out, and the pixels no edge rules out form one run per row. Only the remaining
+//! pixels look at samples, through [`CoverageMask::edge_coverage`] (sorted sample
+//! thresholds for 4x4, the edge function stepped across the grid with additions
+//! otherwise; SPEC section 2).
+//!
+//! Fragments are first offered to the buffer without a color; a triangle's
+//! colors are set up when its first fragment survives, and a triangle the
+//! buffer already hides in the whole band is skipped before any fragment
+//! ([`hidden_in_band`]).
 
 use crate::band_buffer::BandBuffer;
 use crate::coverage::CoverageMask;

@@ -1,5 +1,8 @@
-//! Triangle setup: edge functions with the top-left rule, the depth plane and the
-//! color planes, computed once per triangle (per band it touches).
+//! Triangle setup: edge functions with the top-left rule and the depth plane,
+//! computed once per triangle (per band it touches), and the color planes,
+//! computed only for a triangle that leaves a visible fragment
+//! ([`TriangleSetup::color_planes`]). One reciprocal of twice the area serves
+//! every plane.
 //!
 //! Edge function of the edge from `a` to `b`, for a point `p` in 1/16 pixel:
 //! `E(p) = (x_b - x_a)(y_p - y_a) - (y_b - y_a)(x_p - x_a) = A x_p + B y_p + C`.
