@@ -41,9 +41,10 @@ pub trait BandBuffer<M: CoverageMask> {
     /// Whether pixel `(x, row)` holds, at every sample, something strictly
     /// nearer than `depth` (a depth at a sample, times 16, as
     /// [`Fragment::depth_at`] gives it). Used to skip triangles that are hidden
-    /// in the whole band; the default says `false` (nothing is skipped).
+    /// in the whole band; the default says `false` (nothing is skipped). Asking
+    /// changes nothing in the buffer.
     #[inline]
-    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+    fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         let _ = (x, row, depth);
         false
     }

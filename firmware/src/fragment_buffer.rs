@@ -247,36 +247,10 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
 
     /// Calls `visit` with each of pixel `p`'s `n` fragments, nearest first
     /// (its main slots, then the pool slots its addresses name), until it
-    /// returns `true`; returns whether it did.
+    /// returns `true`; returns whether it did. Walking the slices directly
+    /// spares the per-position lookup of [`Self::slot_ref`] on the hot paths.
     #[inline(always)]
     fn any_stored(
-        &self,
-        p: usize,
-        n: usize,
-        mut visit: impl FnMut(&PackedFragment<M>) -> bool,
-    ) -> bool {
-        let n_main = self.config.main_slots as usize;
-        let in_main = n.min(n_main);
-        for f in &self.main[p * n_main..p * n_main + in_main] {
-            if visit(f) {
-                return true;
-            }
-        }
-        if n > n_main {
-            let n_extra = self.config.extra_addresses as usize;
-            let first = p * n_extra;
-            for a in &self.addresses[first..first + (n - n_main)] {
-                if visit(self.pool.get(a.index())) {
-                    return true;
-                }
-            }
-        }
-        false
-    }
-
-    /// [`Self::any_stored`] with each fragment mutable.
-    #[inline(always)]
-    fn any_stored_mut(
         &mut self,
         p: usize,
         n: usize,
@@ -493,7 +467,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     }
 
     #[inline]
-    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+    fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         let p = self.pixel_index(x, row);
         let n = self.counts[p] as usize;
         if n == 0 {
@@ -554,7 +528,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         let mut emptied = false;
         let mut k = n;
         let mut position = 0;
-        self.any_stored_mut(p, n, |stored| {
+        self.any_stored(p, n, |stored| {
             if k == n && stored.z() > f.z {
                 k = position;
             }

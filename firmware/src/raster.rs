@@ -276,34 +276,16 @@ where
     };
     // One loop per kind of color, so the per-pixel work has no branch on it.
     let j = (start.1 - setup.y0) as i64;
+    macro_rules! insert_with {
+        ($walk:expr) => {
+            insert_from::<M, B, E, _>(setup, &samples, rows, start, $walk, buffer)
+        };
+    }
     match colors() {
-        ColorPlanes::Constant(c) => {
-            insert_from::<M, B, E, _>(setup, &samples, rows, start, ConstantWalk(c), buffer)
-        }
-        ColorPlanes::Linear(p) => insert_from::<M, B, E, _>(
-            setup,
-            &samples,
-            rows,
-            start,
-            LinearWalk::start(&p, j),
-            buffer,
-        ),
-        ColorPlanes::Quadratic(p) => insert_from::<M, B, E, _>(
-            setup,
-            &samples,
-            rows,
-            start,
-            QuadraticWalk::start(&p, j),
-            buffer,
-        ),
-        ColorPlanes::Phong(p) => insert_from::<M, B, E, _>(
-            setup,
-            &samples,
-            rows,
-            start,
-            PhongWalk::start(&p, j),
-            buffer,
-        ),
+        ColorPlanes::Constant(c) => insert_with!(ConstantWalk(c)),
+        ColorPlanes::Linear(p) => insert_with!(LinearWalk::start(&p, j)),
+        ColorPlanes::Quadratic(p) => insert_with!(QuadraticWalk::start(&p, j)),
+        ColorPlanes::Phong(p) => insert_with!(PhongWalk::start(&p, j)),
     }
 }
 

@@ -57,7 +57,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
     }
 
     #[inline]
-    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+    fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         let stored = self.depth[row as usize * self.width as usize + x as usize];
         stored != EMPTY_DEPTH && 16 * (stored as i64) < depth
     }

@@ -695,7 +695,7 @@ impl<M: CoverageMask> BandBuffer<M> for Checked<'_, M> {
         survives
     }
 
-    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+    fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         assert!(x < self.inner.width() && row < self.rows);
         self.inner.hides(x, row, depth)
     }
@@ -813,7 +813,7 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for InBand<B> {
         assert!(x < self.inner.width() && row < self.rows);
         self.inner.survives(x, row, fragment)
     }
-    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+    fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         assert!(x < self.inner.width() && row < self.rows);
         self.inner.hides(x, row, depth)
     }

@@ -231,7 +231,7 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
         }
         draw_in_band(self, vertices, params, band_y0, band_rows)
     }
-    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+    fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         self.inner.hides(x, row, depth)
     }
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {

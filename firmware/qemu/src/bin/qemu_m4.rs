@@ -210,7 +210,7 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
             ticks() - t1 - (self.ticks.insert - inserts_before) - color_ticks.get();
         Ok(())
     }
-    fn hides(&self, x: u16, row: u16, depth: i64) -> bool {
+    fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         self.inner.hides(x, row, depth)
     }
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
