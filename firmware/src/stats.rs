@@ -24,7 +24,9 @@ pub struct BufferStats {
     pub depth_tests: u64,
     /// Depth comparisons made to decide about a whole triangle or a piece of one
     /// before rasterizing it: test points of the midpoint subdivision, tile tests
-    /// of the hierarchical z-buffer. Not included in `depth_tests`.
+    /// of the hierarchical z-buffer, pixels of a triangle's box asked whether the
+    /// band already hides them (`raster::hidden_in_band`, the plain z-buffer and
+    /// the A-buffer). Not included in `depth_tests`.
     pub culling_depth_tests: u64,
     /// Depth-buffer reads that keep the hierarchical z-buffer's tile depths
     /// exact (a tile's farthest depth recomputed after its last farthest pixel
