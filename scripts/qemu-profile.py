@@ -60,6 +60,15 @@ def main():
     parser.add_argument("--workdir", default=None)
     parser.add_argument("--files", action="store_true",
                         help="also count by source file (of the innermost inlined function)")
+    parser.add_argument("--outer", action="store_true",
+                        help="also count by the function symbol that holds the code "
+                             "(inlined callees counted in their caller)")
+    parser.add_argument("--inside", default=None,
+                        help="count by source line the code of the function symbols "
+                             "matching this text (inlined callees included)")
+    parser.add_argument("--annotate", default=None,
+                        help="print the disassembly of the function symbols matching this "
+                             "text with each instruction's count")
     parser.add_argument("--lines", default=None,
                         help="also count by source line within functions matching this text")
     args = parser.parse_args()
@@ -136,6 +145,40 @@ def main():
         print("by source file:")
         for where, n in per_file.most_common(args.top):
             print(f"{n:>12,}  {100.0 * n / total:5.1f} %  {where}")
+    if args.outer:
+        per_symbol = collections.Counter()
+        for pc, n in per_pc.items():
+            i = bisect.bisect_right(addresses, pc) - 1
+            per_symbol[short(table[i][1]) if i >= 0 else hex(pc)] += n
+        print("by function symbol (inlined code counted in its caller):")
+        for name, n in per_symbol.most_common(args.top):
+            print(f"{n:>12,}  {100.0 * n / total:5.1f} %  {name}")
+    if args.inside:
+        per_inner = collections.Counter()
+        for pc, n in per_pc.items():
+            i = bisect.bisect_right(addresses, pc) - 1
+            if i >= 0 and args.inside in table[i][1]:
+                per_inner[lines.get(pc, "?")] += n
+        print(f"by source line, within function symbols matching '{args.inside}':")
+        for where, n in per_inner.most_common(args.top):
+            print(f"{n:>12,}  {where}")
+    if args.annotate:
+        objdump = shutil.which("llvm-objdump")
+        out = subprocess.run([objdump, "-d", "--no-show-raw-insn", "--demangle",
+                              os.path.abspath(args.elf)], capture_output=True, text=True,
+                             check=True).stdout
+        inside = False
+        for line in out.splitlines():
+            if line.endswith(">:"):
+                inside = args.annotate in line
+                if inside:
+                    print(line)
+            elif inside and ":" in line:
+                try:
+                    pc = int(line.split(":")[0].strip(), 16)
+                except ValueError:
+                    continue
+                print(f"{per_pc.get(pc, 0):>10,} {line}")
     if args.lines:
         per_line = collections.Counter()
         for pc, n in per_pc.items():

@@ -2,13 +2,15 @@
 //! pixel's coverage mask from the signs of the edge functions at the samples, and
 //! hands one fragment per covered pixel to a [`BandBuffer`].
 //!
-//! Per pixel, the three edge values at the center decide cheaply: when every edge
-//! clears the center by more than the farthest sample offset, the mask is full
-//! (interior pixel); when one edge is below minus that margin, the pixel is ruled
-//! out, and the pixels no edge rules out form one run per row. Only the remaining
-//! pixels look at samples, through [`CoverageMask::edge_coverage`] (sorted sample
-//! thresholds for 4x4, the edge function stepped across the grid with additions
-//! otherwise; SPEC section 2).
+//! Per row, one division per edge finds the run of pixels no edge rules out
+//! (an edge rules a pixel out when its value at the center is below minus the
+//! farthest sample offset) and, within it, the interior run where every edge
+//! clears the center by that margin: interior pixels take the full mask with
+//! no per-sample work. Only the pixels between the two look at samples,
+//! through [`CoverageMask::edge_coverage`] (sorted sample thresholds for 4x4,
+//! the edge function stepped across the grid with additions otherwise; SPEC
+//! section 2). Edge values and Gouraud colors are stepped in 32 bits when the
+//! triangle's ranges allow it (the same integers as in 64 bits).
 //!
 //! Fragments are first offered to the buffer without a color; a triangle's
 //! colors are set up when its first fragment survives, and a triangle the
@@ -20,7 +22,7 @@ use crate::coverage::CoverageMask;
 use crate::fixed_point::DEPTH_MAX;
 use crate::fragment::Fragment;
 use crate::setup::{ColorPlanes, Edge, TriangleSetup};
-use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, PhongWalk, QuadraticWalk};
+use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, LinearWalk32, PhongWalk, QuadraticWalk};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// Samples where one edge function (value `e` at the pixel center, already biased)
@@ -34,17 +36,26 @@ pub fn edge_mask<M: CoverageMask>(e: i64, edge: &Edge) -> M {
 /// An integer type edge functions are stepped in: `i32` when a triangle's edge
 /// values fit (nearly always), `i64` otherwise.
 trait EdgeValue:
-    Copy + PartialOrd + core::ops::Add<Output = Self> + core::ops::Neg<Output = Self>
+    Copy
+    + PartialOrd
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Neg<Output = Self>
 {
+    const ZERO: Self;
     fn from_i64(v: i64) -> Self;
     fn near(self) -> i32;
     /// `self * n` (the result is an edge value the walk reaches, so it fits).
     fn times(self, n: i64) -> Self;
     /// The fewest steps of `step > 0` that take `value < target` to `target` or beyond.
     fn steps_to_reach(value: Self, target: Self, step: Self) -> i64;
+    /// How many steps `k >= 0` of `step < 0` keep `value + k step >= limit`,
+    /// for `value >= limit`.
+    fn steps_above(value: Self, limit: Self, step: Self) -> i64;
 }
 
 impl EdgeValue for i32 {
+    const ZERO: Self = 0;
     #[inline]
     fn from_i64(v: i64) -> Self {
         v as i32
@@ -63,9 +74,14 @@ impl EdgeValue for i32 {
         let gap = (target - value) as u32;
         gap.div_ceil(step as u32) as i64
     }
+    #[inline]
+    fn steps_above(value: Self, limit: Self, step: Self) -> i64 {
+        ((value - limit) as u32 / step.unsigned_abs()) as i64 + 1
+    }
 }
 
 impl EdgeValue for i64 {
+    const ZERO: Self = 0;
     #[inline]
     fn from_i64(v: i64) -> Self {
         v
@@ -81,6 +97,10 @@ impl EdgeValue for i64 {
     #[inline]
     fn steps_to_reach(value: Self, target: Self, step: Self) -> i64 {
         ((target - value) as u64).div_ceil(step as u64) as i64
+    }
+    #[inline]
+    fn steps_above(value: Self, limit: Self, step: Self) -> i64 {
+        ((value - limit) as u64 / step.unsigned_abs()) as i64 + 1
     }
 }
 
@@ -256,13 +276,16 @@ where
 {
     let samples = setup.edges.map(|e| M::edge_samples(e.a as i32, e.b as i32));
     let mut first = None;
-    walk_pixels::<M, E, _>(
+    // Probing needs no color: the walk of a constant costs nothing.
+    let mut no_color = ConstantWalk(Rgb888::new(0, 0, 0));
+    walk_pixels::<M, E, _, _>(
         setup,
         &samples,
         rows.last,
         (setup.x0, rows.first),
-        |x, y, mask, z| {
-            let probe = fragment_at(setup, mask, z, Rgb888::new(0, 0, 0));
+        &mut no_color,
+        |x, y, mask, z, color| {
+            let probe = fragment_at(setup, mask, z, color);
             if buffer.survives(x, y - rows.band_y0, &probe) {
                 first = Some((x, y));
                 true
@@ -283,7 +306,13 @@ where
     }
     match colors() {
         ColorPlanes::Constant(c) => insert_with!(ConstantWalk(c)),
-        ColorPlanes::Linear(p) => insert_with!(LinearWalk::start(&p, j)),
+        ColorPlanes::Linear(p) => {
+            if LinearWalk32::fits(&p, setup) {
+                insert_with!(LinearWalk32::start(&p, j))
+            } else {
+                insert_with!(LinearWalk::start(&p, j))
+            }
+        }
         ColorPlanes::Quadratic(p) => insert_with!(QuadraticWalk::start(&p, j)),
         ColorPlanes::Phong(p) => insert_with!(PhongWalk::start(&p, j)),
     }
@@ -298,7 +327,7 @@ fn insert_from<M, B, E, W>(
     samples: &[M::EdgeSamples; 3],
     rows: RowRange,
     start: (u16, u16),
-    walk: W,
+    mut walk: W,
     buffer: &mut B,
 ) where
     M: CoverageMask,
@@ -306,125 +335,159 @@ fn insert_from<M, B, E, W>(
     E: EdgeValue,
     W: ColorWalk,
 {
-    let mut colors = PositionedWalk::new(walk, start.1);
-    walk_pixels::<M, E, _>(setup, samples, rows.last, start, |x, y, mask, z| {
-        let color = colors.color_at(x - setup.x0, y);
-        buffer.insert(x, y - rows.band_y0, &fragment_at(setup, mask, z, color));
-        false
-    });
+    walk_pixels::<M, E, _, _>(
+        setup,
+        samples,
+        rows.last,
+        start,
+        &mut walk,
+        |x, y, mask, z, color| {
+            buffer.insert(x, y - rows.band_y0, &fragment_at(setup, mask, z, color));
+            false
+        },
+    );
 }
 
-/// A color walk that follows the rasterizer: rows top to bottom, columns left
-/// to right within a row, stepping by additions from the row's first column.
-struct PositionedWalk<W: ColorWalk> {
-    walk: W,
-    row: W::Row,
-    column: u16,
-    y: u16,
+/// The columns of one row of a triangle's bounding box (counted from its first
+/// column) that the triangle touches: `start..end` are the pixels no edge
+/// rules out, and within them `full_start..full_end` the pixels every edge
+/// clears by its margin (full masks, no per-sample work).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct RowSpan {
+    start: i64,
+    full_start: i64,
+    full_end: i64,
+    end: i64,
 }
 
-impl<W: ColorWalk> PositionedWalk<W> {
-    /// `walk` positioned at the first column of image row `y`.
-    #[inline]
-    fn new(walk: W, y: u16) -> Self {
-        Self {
-            row: walk.row(),
-            walk,
-            column: 0,
-            y,
+/// The span of the row whose first pixel has edge values `e`, for a bounding
+/// box `columns` pixels wide: one division per edge that is not vertical.
+///
+/// An edge value grows by `step_x` per pixel, so the pixels where it is at
+/// least `-margin` (not ruled out by this edge) and those where it is at least
+/// `margin` (this edge covers every sample) are each one run from the left
+/// (`step_x < 0`) or to the right (`step_x > 0`); the span is their
+/// intersection over the three edges.
+#[inline(always)]
+fn row_span<E: EdgeValue>(e: &[E; 3], step_x: &[E; 3], margin: &[E; 3], columns: i64) -> RowSpan {
+    let (mut start, mut full_start) = (0i64, 0i64);
+    let (mut end, mut full_end) = (columns, columns);
+    for i in 0..3 {
+        let (v, s, m) = (e[i], step_x[i], margin[i]);
+        if v < -m {
+            if s > E::ZERO {
+                start = start.max(E::steps_to_reach(v, -m, s));
+                full_start = full_start.max(E::steps_to_reach(v, m, s));
+            } else {
+                end = 0;
+            }
+        } else if v < m {
+            if s > E::ZERO {
+                full_start = full_start.max(E::steps_to_reach(v, m, s));
+            } else {
+                full_end = 0;
+                if s < E::ZERO {
+                    end = end.min(E::steps_above(v, -m, s));
+                }
+            }
+        } else if s < E::ZERO {
+            end = end.min(E::steps_above(v, -m, s));
+            full_end = full_end.min(E::steps_above(v, m, s));
         }
     }
-
-    /// The color at column `column` (from the bounding box's first) of image row
-    /// `y`; rows and, within a row, columns never go back.
-    #[inline(always)]
-    fn color_at(&mut self, column: u16, y: u16) -> Rgb888 {
-        if y != self.y {
-            while self.y < y {
-                self.walk.next_row();
-                self.y += 1;
-            }
-            self.row = self.walk.row();
-            self.column = 0;
-        }
-        match column - self.column {
-            0 => {}
-            1 => self.walk.step(&mut self.row),
-            n => self.walk.skip(&mut self.row, n),
-        }
-        self.column = column;
-        self.walk.color(&self.row)
+    let full_start = full_start.clamp(start, end.max(start));
+    RowSpan {
+        start,
+        full_start,
+        full_end: full_end.clamp(full_start, end.max(full_start)),
+        end,
     }
 }
 
 /// Visits the pixels of `setup` with a non-empty mask, from pixel `start`
 /// (image coordinates) to the end of image row `y_last`, rows top to bottom and
-/// left to right, calling `visit(x, y, mask, depth)` (depth with 16 extra
-/// fraction bits); stops early when `visit` returns `true`.
+/// left to right, calling `visit(x, y, mask, depth, color)` (depth with 16
+/// extra fraction bits, color from `walk`, which starts positioned at the
+/// first column of `start`'s row); stops early when `visit` returns `true`.
 ///
-/// Per row, the walk starts at the first column not ruled out by an edge that
-/// rises to the right (one division per such edge) and ends at the first
-/// column ruled out after that: the pixels no edge rules out (every edge value
-/// at the center at least minus its margin) form a convex set, so they are one
-/// run per row. Pixels in the run still get their exact masks.
+/// Per row, [`row_span`] finds the pixels no edge rules out (every edge value
+/// at the center at least minus its margin: a convex set, so one run per row)
+/// and, within them, the interior run where every mask is full. Only the
+/// pixels between the two look at samples; the result is the same as testing
+/// every pixel of the bounding box.
 #[inline(always)]
-fn walk_pixels<M, E, V>(
+fn walk_pixels<M, E, W, V>(
     setup: &TriangleSetup,
     samples: &[M::EdgeSamples; 3],
     y_last: u16,
     start: (u16, u16),
+    walk: &mut W,
     mut visit: V,
 ) where
     M: CoverageMask,
     E: EdgeValue,
-    V: FnMut(u16, u16, M, i64) -> bool,
+    W: ColorWalk,
+    V: FnMut(u16, u16, M, i64, Rgb888) -> bool,
 {
     let margin: [E; 3] = setup.edges.map(|e| {
         E::from_i64(e.a.abs() * M::max_offset_x() as i64 + e.b.abs() * M::max_offset_y() as i64)
     });
     let step_x: [E; 3] = setup.edges.map(|e| E::from_i64(e.a << 4));
     let step_y = setup.edges.map(|e| e.b << 4);
+    let columns = (setup.x1 - setup.x0) as i64 + 1;
     let (start_x, start_y) = start;
+    let dz = setup.depth.dx;
     // Half-open ranges: inclusive ones cost an extra test per step.
     for y in start_y..y_last + 1 {
+        if y != start_y {
+            walk.next_row();
+        }
         let dy = (y - setup.y0) as i64;
-        let mut e: [E; 3] = [E::from_i64(0); 3];
-        for i in 0..3 {
-            e[i] = E::from_i64(setup.edges[i].origin + dy * step_y[i]);
+        let e: [E; 3] =
+            core::array::from_fn(|i| E::from_i64(setup.edges[i].origin + dy * step_y[i]));
+        let mut span = row_span(&e, &step_x, &margin, columns);
+        if y == start_y {
+            // Resume at the start column.
+            let resume = (start_x - setup.x0) as i64;
+            span.start = span.start.max(resume);
+            span.full_start = span.full_start.max(span.start);
+            span.full_end = span.full_end.max(span.full_start);
         }
-        // Columns to skip: up to the resume column on the first row, and past
-        // every edge that rises to the right but is still below its margin.
-        let mut skip = if y == start_y {
-            (start_x - setup.x0) as i64
-        } else {
-            0
-        };
-        for i in 0..3 {
-            if step_x[i] > E::from_i64(0) && e[i] < -margin[i] {
-                skip = skip.max(E::steps_to_reach(e[i], -margin[i], step_x[i]));
-            }
-        }
-        let columns = (setup.x1 - setup.x0) as i64 + 1;
-        if skip >= columns {
+        if span.start >= span.end {
             continue;
         }
-        let mut x = setup.x0 + skip as u16;
-        for i in 0..3 {
-            e[i] = e[i] + E::times(step_x[i], skip);
-        }
-        let mut z = setup.depth.origin + dy * setup.depth.dy + skip * setup.depth.dx;
-        while x <= setup.x1 {
-            let Some(mask) = pixel_coverage::<M, E>(&e, samples, &margin) else {
-                break;
+        let mut color = walk.row();
+        walk.skip(&mut color, span.start as u16);
+        let mut z = setup.depth.origin + dy * setup.depth.dy + span.start * dz;
+        // Columns in image coordinates: the span lies within the box.
+        let column = |k: i64| (setup.x0 as i64 + k) as u16;
+        // Pixels near an edge: their exact masks from the samples.
+        macro_rules! edge_pixels {
+            ($from:expr, $to:expr) => {
+                let mut at: [E; 3] = core::array::from_fn(|i| e[i] + step_x[i].times($from));
+                for x in column($from)..column($to) {
+                    if let Some(mask) = pixel_coverage::<M, E>(&at, samples, &margin) {
+                        if !mask.is_empty() && visit(x, y, mask, z, walk.color(&color)) {
+                            return;
+                        }
+                    }
+                    for i in 0..3 {
+                        at[i] = at[i] + step_x[i];
+                    }
+                    walk.step(&mut color);
+                    z += dz;
+                }
             };
-            if !mask.is_empty() && visit(x, y, mask, z) {
+        }
+        edge_pixels!(span.start, span.full_start);
+        // The interior: full masks.
+        for x in column(span.full_start)..column(span.full_end) {
+            if visit(x, y, M::FULL, z, walk.color(&color)) {
                 return;
             }
-            for i in 0..3 {
-                e[i] = e[i] + step_x[i];
-            }
-            z += setup.depth.dx;
-            x += 1;
+            walk.step(&mut color);
+            z += dz;
         }
+        edge_pixels!(span.full_end, span.end);
     }
 }

@@ -588,6 +588,89 @@ impl ColorWalk for LinearWalk {
     }
 }
 
+/// [`LinearWalk`] in 32-bit arithmetic, for planes whose values over the
+/// bounding box stay within `±2^30` ([`LinearWalk32::fits`], nearly every
+/// triangle): the same integers, so the same colors, at half the registers.
+#[derive(Clone, Copy, Debug)]
+pub struct LinearWalk32 {
+    row_start: [i32; 3],
+    dx: [i32; 3],
+    dy: [i32; 3],
+}
+
+impl LinearWalk32 {
+    /// Whether every value of planes `p` over the bounding box of `setup`
+    /// (and one step beyond it) fits in 31 bits.
+    pub fn fits(p: &[Plane; 3], setup: &crate::setup::TriangleSetup) -> bool {
+        let columns = (setup.x1 - setup.x0) as i64 + 1;
+        let rows = (setup.y1 - setup.y0) as i64 + 1;
+        p.iter().all(|p| {
+            p.origin.unsigned_abs() as i64
+                + p.dx.unsigned_abs() as i64 * columns
+                + p.dy.unsigned_abs() as i64 * rows
+                < 1 << 30
+        })
+    }
+
+    /// Starts at row `j` of the bounding box of planes `p` (16 fraction bits),
+    /// which [`LinearWalk32::fits`].
+    #[inline]
+    pub fn start(p: &[Plane; 3], j: i64) -> Self {
+        Self {
+            row_start: p.map(|p| (p.origin + j * p.dy) as i32),
+            dx: p.map(|p| p.dx as i32),
+            dy: p.map(|p| p.dy as i32),
+        }
+    }
+}
+
+/// [`channel16`] of a 32-bit value.
+#[inline(always)]
+fn channel16_narrow(v: i32) -> u8 {
+    let c = (v + (1 << 15)) >> 16;
+    if (c as u32) <= 255 {
+        c as u8
+    } else if c < 0 {
+        0
+    } else {
+        255
+    }
+}
+
+impl ColorWalk for LinearWalk32 {
+    type Row = [i32; 3];
+    #[inline]
+    fn row(&self) -> [i32; 3] {
+        self.row_start
+    }
+    #[inline]
+    fn next_row(&mut self) {
+        for c in 0..3 {
+            self.row_start[c] += self.dy[c];
+        }
+    }
+    #[inline]
+    fn color(&self, row: &[i32; 3]) -> Rgb888 {
+        Rgb888::new(
+            channel16_narrow(row[0]),
+            channel16_narrow(row[1]),
+            channel16_narrow(row[2]),
+        )
+    }
+    #[inline]
+    fn step(&self, row: &mut [i32; 3]) {
+        for c in 0..3 {
+            row[c] += self.dx[c];
+        }
+    }
+    #[inline]
+    fn skip(&self, row: &mut [i32; 3], n: u16) {
+        for c in 0..3 {
+            row[c] += self.dx[c] * n as i32;
+        }
+    }
+}
+
 /// A quadratic channel in [`QUADRATIC_FRACTION_BITS`] to 8 bits, rounded and clamped.
 #[inline]
 fn channel_quadratic(v: i64) -> u8 {

@@ -73,18 +73,26 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         if fragment.z <= self.depth[p] {
             return true;
         }
-        self.stats.fragments_generated += 1;
-        self.stats.depth_tests += 1;
         self.stats.fragments_hidden_on_arrival += 1;
         false
     }
 
     #[inline]
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<Mask1x1>) {
-        self.stats.fragments_generated += 1;
-        self.stats.depth_tests += 1;
+        // Only what is stored and what is hidden are counted here; the
+        // fragments and depth tests are their sum (see `stats`).
         let p = row as usize * self.width as usize + x as usize;
-        depth_test_and_store(self.depth, self.color, p, fragment, &mut self.stats);
+        let (Some(depth), Some(color)) = (self.depth.get_mut(p), self.color.get_mut(p)) else {
+            return;
+        };
+        if fragment.mask == Mask1x1::FULL && fragment.z <= *depth {
+            self.stats.fragments_removed_hidden += (*depth != EMPTY_DEPTH) as u64;
+            *depth = fragment.z;
+            *color = fragment.color;
+            self.stats.fragments_stored += 1;
+        } else {
+            self.stats.fragments_hidden_on_arrival += 1;
+        }
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
@@ -96,11 +104,20 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
     }
 
     fn stats(&self) -> BufferStats {
-        self.stats
+        // One depth test per fragment, and every fragment is stored or hidden.
+        let fragments = self.stats.fragments_stored + self.stats.fragments_hidden_on_arrival;
+        BufferStats {
+            fragments_generated: fragments,
+            depth_tests: fragments,
+            max_fragments_in_pixel: (self.stats.fragments_stored > 0) as u32,
+            ..self.stats
+        }
     }
 
     fn take_stats(&mut self) -> BufferStats {
-        core::mem::take(&mut self.stats)
+        let stats = self.stats();
+        self.stats = BufferStats::default();
+        stats
     }
 }
 
