@@ -157,11 +157,12 @@ fn main() {
     let (policy, main, extra, pool) = match method.as_str() {
         "shared" => ("MergeFarthest", env_num("FIRMWARE_MAIN", 1), env_num("FIRMWARE_EXTRA", 2), env_num("FIRMWARE_POOL", 512)),
         "merge-closest" => ("MergeClosest", env_num("FIRMWARE_MAIN", 1), env_num("FIRMWARE_EXTRA", 2), env_num("FIRMWARE_POOL", 512)),
+        "split-bands" => ("SplitBands", env_num("FIRMWARE_MAIN", 1), env_num("FIRMWARE_EXTRA", 2), env_num("FIRMWARE_POOL", 512)),
         "fixed-discard" => ("Discard", fixed, 0, 0),
         "fixed-merge" => ("MergeFarthest", fixed, 0, 0),
         "unlimited" => ("MergeFarthest", 1, samples - 1, desc.width as usize * band * (samples - 1)),
         "zbuffer" => ("MergeFarthest", 0, 0, 0),
-        other => fail(&format!("FIRMWARE_METHOD={other}: use shared, merge-closest, fixed-discard, fixed-merge, unlimited or zbuffer")),
+        other => fail(&format!("FIRMWARE_METHOD={other}: use split-bands, shared, merge-closest, fixed-discard, fixed-merge, unlimited or zbuffer")),
     };
     if method != "zbuffer" && (main == 0 || main + extra > 255) {
         fail(&format!("FIRMWARE_MAIN={main} FIRMWARE_EXTRA={extra}: need 1 <= N_main and N_main + N_extra <= 255"));

@@ -67,6 +67,14 @@ pub trait BandBuffer<M: CoverageMask> {
         let _ = (x, row, fragment);
         true
     }
+    /// Whether the band now being drawn ran out of shared memory in a way that
+    /// drawing it again in fewer rows avoids ([`crate::fragment_buffer::OverflowPolicy::SplitBands`]):
+    /// the frame driver then ends the band unresolved and draws its rows again
+    /// as two bands of half the height. The default says `false`.
+    #[inline]
+    fn band_overflowed(&self) -> bool {
+        false
+    }
     /// Adds the fragment of one triangle at column `x`, band row `row`.
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>);
     /// Resolves band row `row` into colors, `background` where nothing covers.

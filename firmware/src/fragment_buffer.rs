@@ -34,6 +34,21 @@ pub enum OverflowPolicy {
     /// Of the two farthest fragments, drop the one with smaller coverage (the
     /// farther one on a tie), as in the fixed-slot A-buffer the seed cites.
     Discard,
+    /// Bounded memory without the pool's artifacts: when the shared pool runs
+    /// out, the band is drawn again in halves (down to single rows, see
+    /// [`BandBuffer::band_overflowed`]), so no pixel merges for want of pool
+    /// slots (unless a single row needs more than the whole pool); a pixel
+    /// whose own list is full merges its closest pair in depth, as
+    /// [`OverflowPolicy::MergeClosest`]. The image does not depend on the
+    /// pool size then, only on the slots per pixel.
+    SplitBands,
+}
+
+impl OverflowPolicy {
+    /// Whether the pool running out asks for the band to be drawn again in halves.
+    pub const fn splits_bands(self) -> bool {
+        matches!(self, Self::SplitBands)
+    }
 }
 
 /// Sizes of a fragment buffer.
@@ -159,6 +174,8 @@ pub struct FragmentBuffer<'a, M: CoverageMask, A: PoolAddress> {
     addresses: &'a mut [A],
     pool: SharedPool<'a, M>,
     rows: u16,
+    /// Whether an allocation from the pool failed in the current band.
+    pool_ran_out: bool,
     stats: BufferStats,
 }
 
@@ -209,6 +226,7 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
             addresses: storage.addresses,
             pool: SharedPool::new(storage.pool),
             rows: config.band_height,
+            pool_ran_out: false,
             stats: BufferStats::default(),
         })
     }
@@ -352,6 +370,7 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         let n_main = self.config.main_slots as usize;
         if n >= n_main {
             let Some(slot) = self.pool.allocate() else {
+                self.pool_ran_out = true;
                 return false;
             };
             self.addresses[p * self.config.extra_addresses as usize + (n - n_main)] =
@@ -368,7 +387,7 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         // The virtual list L has n + 1 entries: the stored ones with f at position k.
         match self.config.policy {
             OverflowPolicy::MergeFarthest => self.merge_pair(p, k, f, n - 1),
-            OverflowPolicy::MergeClosest => {
+            OverflowPolicy::MergeClosest | OverflowPolicy::SplitBands => {
                 let z_at = |s: &Self, i: usize| -> u32 {
                     if i < k {
                         s.slot_ref(p, i).z()
@@ -464,6 +483,11 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         let used = self.config.width as usize * self.rows as usize;
         self.counts[..used].fill(0);
         self.pool.reset();
+        self.pool_ran_out = false;
+    }
+
+    fn band_overflowed(&self) -> bool {
+        self.pool_ran_out && self.config.policy.splits_bands()
     }
 
     #[inline]

@@ -369,37 +369,63 @@ struct RowSpan {
 /// (`step_x < 0`) or to the right (`step_x > 0`); the span is their
 /// intersection over the three edges.
 #[inline(always)]
-fn row_span<E: EdgeValue>(e: &[E; 3], step_x: &[E; 3], margin: &[E; 3], columns: i64) -> RowSpan {
-    let (mut start, mut full_start) = (0i64, 0i64);
-    let (mut end, mut full_end) = (columns, columns);
+fn row_span<E: EdgeValue>(
+    e: &[E; 3],
+    step_x: &[E; 3],
+    margin: &[E; 3],
+    columns: i64,
+    one_sample: bool,
+) -> RowSpan {
+    let (mut start, mut end) = (0i64, columns);
     for i in 0..3 {
         let (v, s, m) = (e[i], step_x[i], margin[i]);
-        if v < -m {
-            if s > E::ZERO {
+        if s > E::ZERO {
+            if v < -m {
                 start = start.max(E::steps_to_reach(v, -m, s));
-                full_start = full_start.max(E::steps_to_reach(v, m, s));
-            } else {
-                end = 0;
             }
-        } else if v < m {
-            if s > E::ZERO {
-                full_start = full_start.max(E::steps_to_reach(v, m, s));
-            } else {
-                full_end = 0;
-                if s < E::ZERO {
-                    end = end.min(E::steps_above(v, -m, s));
-                }
-            }
+        } else if v < -m {
+            end = 0;
         } else if s < E::ZERO {
             end = end.min(E::steps_above(v, -m, s));
+        }
+    }
+    if one_sample {
+        // One sample at the center: every pixel not ruled out is covered.
+        return RowSpan {
+            start,
+            full_start: start,
+            full_end: end.max(start),
+            end,
+        };
+    }
+    // Short runs (small triangles, and most rows of them) are all near an
+    // edge: finding an interior would cost more divisions than it saves.
+    if end - start <= 2 {
+        return RowSpan {
+            start,
+            full_start: start,
+            full_end: start,
+            end,
+        };
+    }
+    let (mut full_start, mut full_end) = (start, end);
+    for i in 0..3 {
+        let (v, s, m) = (e[i], step_x[i], margin[i]);
+        if s > E::ZERO {
+            if v < m {
+                full_start = full_start.max(E::steps_to_reach(v, m, s));
+            }
+        } else if v < m {
+            full_end = 0;
+        } else if s < E::ZERO {
             full_end = full_end.min(E::steps_above(v, m, s));
         }
     }
-    let full_start = full_start.clamp(start, end.max(start));
+    let full_start = full_start.min(end);
     RowSpan {
         start,
         full_start,
-        full_end: full_end.clamp(full_start, end.max(full_start)),
+        full_end: full_end.clamp(full_start, end),
         end,
     }
 }
@@ -445,7 +471,7 @@ fn walk_pixels<M, E, W, V>(
         let dy = (y - setup.y0) as i64;
         let e: [E; 3] =
             core::array::from_fn(|i| E::from_i64(setup.edges[i].origin + dy * step_y[i]));
-        let mut span = row_span(&e, &step_x, &margin, columns);
+        let mut span = row_span(&e, &step_x, &margin, columns, M::SAMPLES == 1);
         if y == start_y {
             // Resume at the start column.
             let resume = (start_x - setup.x0) as i64;

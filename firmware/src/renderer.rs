@@ -286,11 +286,16 @@ where
     let mut active = 0usize;
     let mut next = 0usize;
     let mut y0 = 0u16;
+    // Rows of the band being drawn. When the buffer asks for smaller bands
+    // (its shared pool ran out), the rows are drawn again as halves; the next
+    // band starts at twice the last height that fitted, up to the band height.
+    // Within a pixel the order of work is the same for every band height, so
+    // the image does not depend on how the rows were split.
+    let mut rows = band_height.min(height);
     while y0 < height {
-        let rows = band_height.min(height - y0);
+        rows = rows.min(height - y0);
         let y_end = y0 + rows;
         buffer.begin_band(y0, rows);
-        stats.bands += 1;
         // Drop triangles that ended above this band, keeping the order.
         let mut kept = 0;
         for i in 0..active {
@@ -311,14 +316,26 @@ where
         // Front faces first, then the back faces of two-sided objects: surfaces
         // that face the viewer hide most of what faces away, which then costs
         // no colors and no memory.
-        for back in [false, true] {
+        'draw: for back in [false, true] {
             for i in 0..active {
                 let t = ws.triangle_order[i];
                 if is_back(ws.triangle_rows[global_index(ws.objects, t)]) == back {
                     draw_triangle(&ctx, ws, t, y0, rows, buffer, &mut stats.geometry);
+                    if rows > 1 && buffer.band_overflowed() {
+                        break 'draw;
+                    }
                 }
             }
         }
+        if rows > 1 && buffer.band_overflowed() {
+            // Draw the same rows again as two bands of half the height: the
+            // active list still holds every triangle that touches them.
+            buffer.end_band();
+            stats.band_splits += 1;
+            rows = rows.div_ceil(2);
+            continue;
+        }
+        stats.bands += 1;
         on_band(y0, rows, buffer);
         for row in 0..rows {
             buffer.resolve_row(row, scene.background, &mut ws.line[..width as usize]);
@@ -327,6 +344,7 @@ where
         }
         buffer.end_band();
         y0 = y_end;
+        rows = rows.min(band_height);
     }
     stats.buffer = buffer.take_stats();
     Ok(stats)

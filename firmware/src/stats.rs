@@ -69,6 +69,9 @@ pub struct FrameStats {
     pub geometry: GeometryStats,
     /// Fragment buffer counters.
     pub buffer: BufferStats,
-    /// Bands rendered.
+    /// Bands rendered (resolved and sent), halves of split bands included.
     pub bands: u32,
+    /// Bands drawn and then split because the shared pool ran out (their
+    /// fragments are counted in `buffer` too: the work was done).
+    pub band_splits: u32,
 }

@@ -57,7 +57,7 @@ struct RenderArgs {
     #[arg(long)]
     height: Option<u32>,
     /// Pixel memory method.
-    #[arg(long, value_enum, default_value_t = Method::Shared)]
+    #[arg(long, value_enum, default_value_t = Method::SplitBands)]
     method: Method,
     /// Coverage mask grid (columns x rows).
     #[arg(long, value_enum, default_value_t = Grid::G4x4)]
@@ -136,7 +136,12 @@ fn load_scene(spec: &str, width: Option<u32>, height: Option<u32>) -> Result<Sce
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {
-    if args.main == 0 && matches!(args.method, Method::Shared | Method::MergeClosest) {
+    if args.main == 0
+        && matches!(
+            args.method,
+            Method::Shared | Method::MergeClosest | Method::SplitBands
+        )
+    {
         return Err("--main must be at least 1".into());
     }
     if args.fixed == 0 && matches!(args.method, Method::FixedDiscard | Method::FixedMerge) {

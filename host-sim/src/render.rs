@@ -33,6 +33,10 @@ pub enum Method {
     FixedMerge,
     /// Like `shared`, merging the closest pair in depth.
     MergeClosest,
+    /// Bounded memory without the pool's artifacts: main slots + pool
+    /// addresses + shared pool; when the pool runs out, the band is drawn again
+    /// in halves; a pixel whose list is full merges its closest pair in depth.
+    SplitBands,
     /// One sample per pixel, no antialiasing.
     Zbuffer,
     /// The z-buffer with a farthest depth per 8x8 tile; triangles are rejected
@@ -254,6 +258,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
     fn end_band(&mut self) {
         self.inner.end_band()
     }
+    fn band_overflowed(&self) -> bool {
+        self.inner.band_overflowed()
+    }
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
         self.inner.pixel_fragment_count(x, row)
     }
@@ -413,6 +420,12 @@ pub fn render(
                 ),
                 Method::MergeClosest => (
                     OverflowPolicy::MergeClosest,
+                    config.main,
+                    config.extra,
+                    config.pool.unwrap_or(default_pool(w, band)),
+                ),
+                Method::SplitBands => (
+                    OverflowPolicy::SplitBands,
                     config.main,
                     config.extra,
                     config.pool.unwrap_or(default_pool(w, band)),

@@ -681,6 +681,7 @@ pub fn render_ssaa(
             geometry: frame.geometry,
             buffer,
             bands: bands.len() as u32,
+            band_splits: 0,
         },
         generated_per_pixel: generated,
         stored_per_pixel: stored,

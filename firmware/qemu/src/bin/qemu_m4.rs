@@ -240,6 +240,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
     fn end_band(&mut self) {
         self.inner.end_band()
     }
+    fn band_overflowed(&self) -> bool {
+        self.inner.band_overflowed()
+    }
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
         self.inner.pixel_fragment_count(x, row)
     }
