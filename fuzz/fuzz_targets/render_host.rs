@@ -37,6 +37,7 @@ fuzz_target!(|data: &[u8]| {
             match policy {
                 OverflowPolicy::MergeFarthest => Method::Shared,
                 OverflowPolicy::MergeClosest => Method::MergeClosest,
+                OverflowPolicy::SplitBands => Method::SplitBands,
                 OverflowPolicy::Discard => Method::FixedDiscard,
             },
             match m {

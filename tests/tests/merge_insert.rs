@@ -391,7 +391,7 @@ impl Model {
                 l.splice(n - 1..=n, [m]);
                 self.merges += 1;
             }
-            OverflowPolicy::MergeClosest => {
+            OverflowPolicy::MergeClosest | OverflowPolicy::SplitBands => {
                 let gaps: Vec<u32> = (0..n).map(|i| l[i + 1].z - l[i].z).collect();
                 let best = *gaps.iter().min().unwrap();
                 if gaps.iter().filter(|&&g| g == best).count() > 1 {
