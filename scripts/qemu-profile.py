@@ -155,10 +155,15 @@ def main():
             print(f"{n:>12,}  {100.0 * n / total:5.1f} %  {name}")
     if args.inside:
         per_inner = collections.Counter()
+        per_callee = collections.Counter()
         for pc, n in per_pc.items():
             i = bisect.bisect_right(addresses, pc) - 1
             if i >= 0 and args.inside in table[i][1]:
                 per_inner[lines.get(pc, "?")] += n
+                per_callee[names.get(pc, "?")] += n
+        print(f"by inlined function, within function symbols matching '{args.inside}':")
+        for name, n in per_callee.most_common(args.top):
+            print(f"{n:>12,}  {name}")
         print(f"by source line, within function symbols matching '{args.inside}':")
         for where, n in per_inner.most_common(args.top):
             print(f"{n:>12,}  {where}")
