@@ -21,7 +21,7 @@ pub trait BandBuffer<M: CoverageMask> {
     /// every pixel becomes empty.
     fn begin_band(&mut self, y0: u16, rows: u16);
     /// Draws one window-space triangle into the band starting at image row `band_y0`
-    /// with `band_rows` rows: sets it up, skips it when the buffer already hides
+    /// with `band_rows` rows: sets it up, skips it when it faces away and the buffer already hides
     /// it there, and rasterizes it otherwise ([`draw_in_band`]).
     ///
     /// Buffers that decide about whole triangles before rasterizing them (culling
@@ -90,7 +90,8 @@ pub trait BandBuffer<M: CoverageMask> {
 }
 
 /// What [`BandBuffer::draw_triangle`] does by default: sets the triangle up,
-/// skips it when `buffer` already hides it in the whole band, and otherwise
+/// skips it when it faces away and `buffer` already hides it in the whole
+/// band, and otherwise
 /// rasterizes it, setting up its colors only when a fragment survives.
 /// Wrappers that override `draw_triangle` call this to draw the same way.
 pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
@@ -101,7 +102,12 @@ pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
     band_rows: u16,
 ) -> Result<(), Rejection> {
     let setup = TriangleSetup::new(vertices, params.cull_backfaces, params.width, params.height)?;
-    if hidden_in_band(&setup, band_y0, band_rows, buffer) {
+    // Faces turned away are drawn after the faces of the viewer and are mostly
+    // behind them: for those a whole-triangle test pays. A face turned to the
+    // viewer is rarely hidden and its probe finds a visible fragment as soon;
+    // testing those too cost 1-3 % more instructions on every built-in scene
+    // that fits the M4 (layers included).
+    if setup.faces_away() && hidden_in_band(&setup, band_y0, band_rows, buffer) {
         return Ok(());
     }
     rasterize(&setup, band_y0, band_rows, buffer, || {

@@ -13,9 +13,9 @@
 //! triangle's ranges allow it (the same integers as in 64 bits).
 //!
 //! Fragments are first offered to the buffer without a color; a triangle's
-//! colors are set up when its first fragment survives, and a triangle the
-//! buffer already hides in the whole band is skipped before any fragment
-//! ([`hidden_in_band`]).
+//! colors are set up when its first fragment survives, and a triangle facing
+//! away that the buffer already hides in the whole band is skipped before any
+//! fragment ([`hidden_in_band`]).
 
 use crate::band_buffer::BandBuffer;
 use crate::coverage::CoverageMask;

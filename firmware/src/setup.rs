@@ -311,6 +311,15 @@ impl TriangleSetup {
         })
     }
 
+    /// Whether the triangle faces away from the viewer (clockwise on screen
+    /// with y downward; see [`is_backfacing`]).
+    #[inline]
+    pub fn faces_away(&self) -> bool {
+        // Vertices 1 and 2 were swapped exactly when the signed area was
+        // negative, that is when the triangle faces the viewer.
+        !self.corners.swapped
+    }
+
     /// The color planes of this triangle for `source` (the lighting of the
     /// midpoints and the quadratic fit happen here).
     pub fn color_planes(&self, source: ColorSource) -> ColorPlanes {

@@ -46,10 +46,14 @@ fn hierarchical_zbuffer_equals_zbuffer_on_every_builtin_scene() {
                 "{name}, band {band}"
             );
             // Both decide about whole triangles before their pixels (per
-            // band in the plain one, per tile in the hierarchical one) and
-            // count those comparisons apart.
+            // band in the plain one, for the faces turned away of two-sided
+            // objects; per tile in the hierarchical one) and count those
+            // comparisons apart.
             assert!(p.depth_tests > 0 && h.depth_tests > 0);
-            assert!(p.culling_depth_tests > 0 && h.culling_depth_tests > 0);
+            assert!(h.culling_depth_tests > 0);
+            if *name == "teapot" {
+                assert!(p.culling_depth_tests > 0, "band {band}");
+            }
         }
     }
 }
@@ -233,8 +237,6 @@ fn counters_are_deterministic() {
     assert_eq!(rows.len(), 10);
     assert_eq!(rows[0].differing, 0);
     assert_eq!(rows[1].differing, 0);
-    // The plain z-buffer tests whole triangles against the band too.
-    assert!(rows[0].counts.culling > 0);
     let again = measure_table(&scene, 120, 4, 1, 0.0).unwrap();
     for (a, b) in rows.iter().zip(&again) {
         assert_eq!(

@@ -292,13 +292,19 @@ fn depth_complexity_one_thousand() {
     let (w, h) = (40u16, 30u16);
     let mut rng = Rng::new(1000);
     let mut objects = Vec::new();
-    for _ in 0..4 {
+    for object in 0..4 {
+        // Two objects wound one way, two the other: the buffer tests the
+        // triangles that face away against the whole band.
+        let corners = if object % 2 == 0 {
+            [[-40.0, -40.0], [40.0, -40.0], [0.0, 40.0]]
+        } else {
+            [[-40.0, -40.0], [0.0, 40.0], [40.0, -40.0]]
+        };
         let tris: Vec<[[f64; 3]; 3]> = (0..250)
             .map(|_| {
                 let z = rng.float(-4.0, 4.0);
                 let (tx, ty) = (rng.float(-0.2, 0.2), rng.float(-0.2, 0.2));
-                [[-40.0, -40.0], [40.0, -40.0], [0.0, 40.0]]
-                    .map(|[x, y]| [x, y, z + tx * x + ty * y])
+                corners.map(|[x, y]| [x, y, z + tx * x + ty * y])
             })
             .collect();
         objects.push(triangles(&tris, rng.color()));
