@@ -52,6 +52,9 @@ pub struct LightSetup {
     diffuse: i32,
     specular: i32,
     shininess: u32,
+    /// The smallest `n.h` whose power is not zero: below it the specular
+    /// term is skipped (the same result, without the powers).
+    highlight_from: i32,
 }
 
 #[inline]
@@ -70,6 +73,25 @@ fn pow_unit(mut x: i32, mut e: u32) -> i32 {
         e >>= 1;
     }
     r
+}
+
+/// The smallest `x` in `0..=UNIT_ONE` with `pow_unit(x, e) > 0`. Each step of
+/// [`pow_unit`] rounds a product of non-negative, non-decreasing values, so
+/// the power does not decrease with `x`, and a bisection finds the boundary.
+fn first_nonzero_power(e: u32) -> i32 {
+    let (mut zero, mut nonzero) = (0, UNIT_ONE);
+    if pow_unit(zero, e) > 0 {
+        return 0;
+    }
+    while nonzero - zero > 1 {
+        let mid = (zero + nonzero) / 2;
+        if pow_unit(mid, e) > 0 {
+            nonzero = mid;
+        } else {
+            zero = mid;
+        }
+    }
+    nonzero
 }
 
 impl LightSetup {
@@ -95,6 +117,7 @@ impl LightSetup {
             diffuse: q14(light.diffuse),
             specular: q14(light.specular),
             shininess: light.shininess.max(1) as u32,
+            highlight_from: first_nonzero_power(light.shininess.max(1) as u32),
         }
     }
 
@@ -105,7 +128,11 @@ impl LightSetup {
         let diffuse = self.ambient + ((self.diffuse * ndl) >> UNIT_BITS);
         let spec = if ndl > 0 {
             let ndh = dot(n, &self.half).clamp(0, UNIT_ONE);
-            (self.specular * pow_unit(ndh, self.shininess)) >> UNIT_BITS
+            if ndh < self.highlight_from {
+                0
+            } else {
+                (self.specular * pow_unit(ndh, self.shininess)) >> UNIT_BITS
+            }
         } else {
             0
         };
@@ -131,6 +158,17 @@ impl ViewBasis {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn powers_below_the_highlight_bound_are_zero() {
+        for e in 1..=255 {
+            let from = first_nonzero_power(e);
+            assert!(pow_unit(from, e) > 0, "{e}");
+            for x in 0..from {
+                assert_eq!(pow_unit(x, e), 0, "{x}^{e}");
+            }
+        }
+    }
 
     #[test]
     fn pow_and_normalize() {
