@@ -73,6 +73,11 @@ for s in "${OBJECTS[@]}" layers:1000:6:1; do
   "$HS" stats --scene "$s" "${SIZE[@]}" --out-dir "$OUT" >"$OUT/$(tag "$s")-stats.txt"
 done
 
+# Bounded memory against unlimited over an 8-frame turntable: the default M4
+# memory (band 8, pool 512) and the host defaults (band 16, pool 1,920).
+"$HS" bounded --band 8 --pool 512 >"$OUT/bounded-m4.md"
+"$HS" bounded --band 16 --pool 1920 >"$OUT/bounded-host.md"
+
 # The dynamic mode: a turntable with per-frame statistics.
 "$HS" render --scene starfighter --width 160 --height 160 --turntable --frames 24 \
   --out "$OUT/starfighter-turntable.gif" >"$OUT/starfighter-turntable.txt"

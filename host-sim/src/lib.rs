@@ -6,6 +6,7 @@ pub use abuffer_scenes::{builtins, obj, scene_desc, scene_file};
 
 pub mod animate;
 pub mod bench;
+pub mod bounded;
 pub mod compare;
 pub mod complexity;
 pub mod convert;

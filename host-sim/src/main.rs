@@ -37,6 +37,9 @@ enum Command {
     Fit(host_sim::fit::FitArgs),
     /// Instructions per frame on the Cortex-M4 under QEMU, per scene and method.
     QemuBench(host_sim::bench::BenchArgs),
+    /// Bounded-memory methods against unlimited over a turntable: worst NMSE,
+    /// speckles, band-row error ratio, band splits, time (a Markdown table).
+    Bounded(host_sim::bounded::BoundedArgs),
     /// Depth comparisons, time and image errors of zbuffer, zbuffer-hiz and
     /// zbuffer-midpoint (K = 0..3), as a Markdown table.
     ZbufferTable(host_sim::zbuffer_table::ZbufferTableArgs),
@@ -285,6 +288,7 @@ fn main() -> ExitCode {
         Command::Fit(args) => load_scene(&args.scene, Some(args.width), Some(args.height))
             .and_then(|desc| host_sim::fit::run_fit(args, desc)),
         Command::QemuBench(args) => host_sim::bench::run_bench(args),
+        Command::Bounded(args) => host_sim::bounded::run_bounded(args),
         Command::ZbufferTable(args) => load_scene(&args.scene, Some(args.width), Some(args.height))
             .and_then(|desc| host_sim::zbuffer_table::run_zbuffer_table(args, desc)),
     };
