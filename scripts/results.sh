@@ -77,6 +77,12 @@ done
 # memory (band 8, pool 512) and the host defaults (band 16, pool 1,920).
 "$HS" bounded --band 8 --pool 512 >"$OUT/bounded-m4.md"
 "$HS" bounded --band 16 --pool 1920 >"$OUT/bounded-host.md"
+# The fastest configuration within 112 KiB and 96 KiB (host times decide).
+for s in teapot spheres; do
+  for ram in 112K 96K; do
+    "$HS" tune --scene "$s" --ram "$ram" --show 3
+  done
+done >"$OUT/tune.md"
 
 # The dynamic mode: a turntable with per-frame statistics.
 "$HS" render --scene starfighter --width 160 --height 160 --turntable --frames 24 \

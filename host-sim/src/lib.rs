@@ -20,4 +20,5 @@ pub mod render;
 pub mod shading_compare;
 pub mod ssaa;
 pub mod sweep;
+pub mod tune;
 pub mod zbuffer_table;

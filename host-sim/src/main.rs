@@ -40,6 +40,9 @@ enum Command {
     /// Bounded-memory methods against unlimited over a turntable: worst NMSE,
     /// speckles, band-row error ratio, band splits, time (a Markdown table).
     Bounded(host_sim::bounded::BoundedArgs),
+    /// The fastest bounded-memory configuration that fits an SRAM budget and
+    /// keeps a turntable within an NMSE target against unlimited.
+    Tune(host_sim::tune::TuneArgs),
     /// Depth comparisons, time and image errors of zbuffer, zbuffer-hiz and
     /// zbuffer-midpoint (K = 0..3), as a Markdown table.
     ZbufferTable(host_sim::zbuffer_table::ZbufferTableArgs),
@@ -289,6 +292,7 @@ fn main() -> ExitCode {
             .and_then(|desc| host_sim::fit::run_fit(args, desc)),
         Command::QemuBench(args) => host_sim::bench::run_bench(args),
         Command::Bounded(args) => host_sim::bounded::run_bounded(args),
+        Command::Tune(args) => host_sim::tune::run_tune(args),
         Command::ZbufferTable(args) => load_scene(&args.scene, Some(args.width), Some(args.height))
             .and_then(|desc| host_sim::zbuffer_table::run_zbuffer_table(args, desc)),
     };
