@@ -67,13 +67,15 @@ pub trait BandBuffer<M: CoverageMask> {
         let _ = (x, row, fragment);
         true
     }
-    /// Whether the band now being drawn ran out of shared memory in a way that
-    /// drawing it again in fewer rows avoids ([`crate::fragment_buffer::OverflowPolicy::SplitBands`]):
-    /// the frame driver then ends the band unresolved and draws its rows again
-    /// as two bands of half the height. The default says `false`.
+    /// How the band now being drawn uses the buffer's shared pool, for the
+    /// frame driver's band heights ([`crate::fragment_buffer::OverflowPolicy::SplitBands`]):
+    /// when [`PoolUse::ran_out`], the driver ends the band unresolved and draws
+    /// its rows again as two bands of half the height; after a band that used
+    /// little of the pool, the next one may be taller again. The default
+    /// reports no pool.
     #[inline]
-    fn band_overflowed(&self) -> bool {
-        false
+    fn pool_use(&self) -> PoolUse {
+        PoolUse::default()
     }
     /// Adds the fragment of one triangle at column `x`, band row `row`.
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>);
@@ -114,6 +116,18 @@ pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
         setup.color_planes((params.colors)())
     });
     Ok(())
+}
+
+/// How a band uses a buffer's shared pool ([`BandBuffer::pool_use`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PoolUse {
+    /// An allocation failed in this band and the buffer asks for the band to
+    /// be drawn again in halves.
+    pub ran_out: bool,
+    /// The most slots in use at once in this band.
+    pub peak: usize,
+    /// Slots in the pool.
+    pub capacity: usize,
 }
 
 /// What [`BandBuffer::draw_triangle`] needs besides the vertices.

@@ -13,7 +13,7 @@
 //! Storage is borrowed ([`BufferStorage`]): the firmware lends `static` arrays, the
 //! host lends vectors. Nothing is allocated.
 
-use crate::band_buffer::BandBuffer;
+use crate::band_buffer::{BandBuffer, PoolUse};
 use crate::coverage::CoverageMask;
 use crate::fragment::{Fragment, PackedFragment};
 use crate::merge::merge_fragments;
@@ -36,7 +36,7 @@ pub enum OverflowPolicy {
     Discard,
     /// Bounded memory without the pool's artifacts: when the shared pool runs
     /// out, the band is drawn again in halves (down to single rows, see
-    /// [`BandBuffer::band_overflowed`]), so no pixel merges for want of pool
+    /// [`BandBuffer::pool_use`]), so no pixel merges for want of pool
     /// slots (unless a single row needs more than the whole pool); a pixel
     /// whose own list is full merges its closest pair in depth, as
     /// [`OverflowPolicy::MergeClosest`]. The image does not depend on the
@@ -482,12 +482,19 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         self.rows = rows.min(self.config.band_height);
         let used = self.config.width as usize * self.rows as usize;
         self.counts[..used].fill(0);
+        // The pool's peak becomes the band's; the frame's is kept here.
+        self.stats.pool_peak = self.stats.pool_peak.max(self.pool.peak() as u32);
         self.pool.reset();
+        self.pool.clear_peak();
         self.pool_ran_out = false;
     }
 
-    fn band_overflowed(&self) -> bool {
-        self.pool_ran_out && self.config.policy.splits_bands()
+    fn pool_use(&self) -> PoolUse {
+        PoolUse {
+            ran_out: self.pool_ran_out && self.config.policy.splits_bands(),
+            peak: self.pool.peak(),
+            capacity: self.pool.capacity(),
+        }
     }
 
     #[inline]

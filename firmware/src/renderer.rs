@@ -288,7 +288,8 @@ where
     let mut y0 = 0u16;
     // Rows of the band being drawn. When the buffer asks for smaller bands
     // (its shared pool ran out), the rows are drawn again as halves; the next
-    // band starts at twice the last height that fitted, up to the band height.
+    // band keeps the height that fitted, or doubles it (up to the band height)
+    // when the band used little of the pool.
     // Within a pixel the order of work is the same for every band height, so
     // the image does not depend on how the rows were split.
     let mut rows = band_height.min(height);
@@ -321,13 +322,14 @@ where
                 let t = ws.triangle_order[i];
                 if is_back(ws.triangle_rows[global_index(ws.objects, t)]) == back {
                     draw_triangle(&ctx, ws, t, y0, rows, buffer, &mut stats.geometry);
-                    if rows > 1 && buffer.band_overflowed() {
+                    if rows > 1 && buffer.pool_use().ran_out {
                         break 'draw;
                     }
                 }
             }
         }
-        if rows > 1 && buffer.band_overflowed() {
+        let pool = buffer.pool_use();
+        if rows > 1 && pool.ran_out {
             // Draw the same rows again as two bands of half the height: the
             // active list still holds every triangle that touches them.
             buffer.end_band();
@@ -344,7 +346,12 @@ where
         }
         buffer.end_band();
         y0 = y_end;
-        rows = rows.min(band_height);
+        // A band that used at most a third of the pool: twice its rows likely
+        // fit (a third: 59.0 M instructions for the teapot on the M4; 40 %:
+        // 60.1 M; a half: 63.9 M; never growing back: 65.7 M).
+        if rows < band_height && pool.peak * 3 <= pool.capacity {
+            rows = (rows * 2).min(band_height);
+        }
     }
     stats.buffer = buffer.take_stats();
     Ok(stats)

@@ -19,7 +19,7 @@
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use fixed::types::I2F14;
 use libfuzzer_sys::arbitrary::{Result, Unstructured};
-use mcu_abuffer::band_buffer::BandBuffer;
+use mcu_abuffer::band_buffer::{BandBuffer, PoolUse};
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::{Coord, DEPTH_MAX};
 use mcu_abuffer::fragment::{Fragment, PackedFragment};
@@ -486,10 +486,11 @@ impl BufferParams {
         } else {
             u.int_in_range(1..=height.max(1))?
         };
-        let policy = match u.int_in_range(0u8..=2)? {
+        let policy = match u.int_in_range(0u8..=3)? {
             0 => OverflowPolicy::MergeFarthest,
             1 => OverflowPolicy::MergeClosest,
-            _ => OverflowPolicy::Discard,
+            2 => OverflowPolicy::Discard,
+            _ => OverflowPolicy::SplitBands,
         };
         Ok(Self {
             memory,
@@ -721,6 +722,10 @@ impl<M: CoverageMask> BandBuffer<M> for Checked<'_, M> {
         self.open = false;
     }
 
+    fn pool_use(&self) -> PoolUse {
+        self.inner.pool_use()
+    }
+
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
         self.inner.pixel_fragment_count(x, row)
     }
@@ -832,6 +837,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for InBand<B> {
     }
     fn end_band(&mut self) {
         self.inner.end_band()
+    }
+    fn pool_use(&self) -> PoolUse {
+        self.inner.pool_use()
     }
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
         self.inner.pixel_fragment_count(x, row)

@@ -2,7 +2,7 @@
 
 use crate::convert::FixedScene;
 use embedded_graphics_core::pixelcolor::Rgb888;
-use mcu_abuffer::band_buffer::{draw_in_band, BandBuffer, DrawParams};
+use mcu_abuffer::band_buffer::{draw_in_band, BandBuffer, DrawParams, PoolUse};
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::{Fragment, PackedFragment};
@@ -258,8 +258,8 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
     fn end_band(&mut self) {
         self.inner.end_band()
     }
-    fn band_overflowed(&self) -> bool {
-        self.inner.band_overflowed()
+    fn pool_use(&self) -> PoolUse {
+        self.inner.pool_use()
     }
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
         self.inner.pixel_fragment_count(x, row)

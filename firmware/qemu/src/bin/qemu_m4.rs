@@ -17,7 +17,7 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::debug;
 use defmt_semihosting as _;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
-use mcu_abuffer::band_buffer::BandBuffer;
+use mcu_abuffer::band_buffer::{BandBuffer, PoolUse};
 use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::renderer::{render_frame, FrameOptions, FrameWorkspace};
@@ -240,8 +240,8 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
     fn end_band(&mut self) {
         self.inner.end_band()
     }
-    fn band_overflowed(&self) -> bool {
-        self.inner.band_overflowed()
+    fn pool_use(&self) -> PoolUse {
+        self.inner.pool_use()
     }
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
         self.inner.pixel_fragment_count(x, row)
