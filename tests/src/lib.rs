@@ -715,3 +715,51 @@ pub fn first_difference(
         (pa != pb).then_some((p % w, p / w, pa, pb))
     })
 }
+
+// ---------------------------------------------------------------------------------
+// Prerequisites of the firmware tests
+// ---------------------------------------------------------------------------------
+
+/// Whether the tools a firmware test needs are here: `qemu-system-arm` on the
+/// `PATH` (when `qemu` is set) and the Rust `target` installed. When one is
+/// missing, the test should return early: this prints why and returns `false`,
+/// unless `ABUFFER_REQUIRE_FIRMWARE_TOOLS=1` is set (the README's test command
+/// sets it, after installing both), in which case it panics instead, so that a
+/// missing tool fails loudly rather than skipping.
+pub fn firmware_tools_present(test: &str, target: &str, qemu: bool) -> bool {
+    let mut missing = Vec::new();
+    if qemu
+        && std::process::Command::new("qemu-system-arm")
+            .arg("--version")
+            .output()
+            .map(|o| !o.status.success())
+            .unwrap_or(true)
+    {
+        missing.push("qemu-system-arm (apt-get install -y qemu-system-arm)".to_string());
+    }
+    let installed = std::process::Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .output()
+        .map(|o| {
+            String::from_utf8_lossy(&o.stdout)
+                .lines()
+                .any(|l| l.trim() == target)
+        })
+        // Without rustup the toolchain may still have the target: try the build.
+        .unwrap_or(true);
+    if !installed {
+        missing.push(format!("the {target} target (rustup target add {target})"));
+    }
+    if missing.is_empty() {
+        return true;
+    }
+    let why = format!("{test}: skipped, missing {}", missing.join(" and "));
+    if std::env::var("ABUFFER_REQUIRE_FIRMWARE_TOOLS").as_deref() == Ok("1") {
+        panic!("{why} (ABUFFER_REQUIRE_FIRMWARE_TOOLS=1)");
+    }
+    // Straight to the process's stderr: the test harness would hide an
+    // `eprintln!` of a passing test.
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr().lock(), "{why}");
+    false
+}

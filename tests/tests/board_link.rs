@@ -20,6 +20,13 @@ fn scratch(name: &str) -> std::path::PathBuf {
 
 #[test]
 fn board_firmware_links_within_the_f411() {
+    if !system_tests::firmware_tools_present(
+        "board_firmware_links_within_the_f411",
+        "thumbv7em-none-eabihf",
+        false,
+    ) {
+        return;
+    }
     let elf = scratch("default").join("blackpill-st7789.elf");
     build_board(&[], &elf).unwrap_or_else(|e| panic!("board build failed: {e}"));
     let link = read_link_report(&elf).unwrap();
@@ -41,6 +48,13 @@ fn board_firmware_links_within_the_f411() {
 
 #[test]
 fn an_oversized_board_configuration_names_the_overshoot() {
+    if !system_tests::firmware_tools_present(
+        "an_oversized_board_configuration_names_the_overshoot",
+        "thumbv7em-none-eabihf",
+        false,
+    ) {
+        return;
+    }
     let elf = scratch("oversized").join("blackpill-st7789.elf");
     let err = build_board(&[("BOARD_POOL", "4000".to_string())], &elf).unwrap_err();
     assert!(

@@ -105,6 +105,13 @@ fn assert_parity(name: &str, config: &FirmwareConfig) -> FirmwareRun {
 
 #[test]
 fn firmware_frames_equal_host_frames_and_counts_are_deterministic() {
+    if !system_tests::firmware_tools_present(
+        "firmware_frames_equal_host_frames_and_counts_are_deterministic",
+        "thumbv7em-none-eabihf",
+        true,
+    ) {
+        return;
+    }
     for scene in ["teapot", "spheres", "starfighter"] {
         let config = FirmwareConfig {
             scene: scene.into(),
@@ -152,6 +159,13 @@ fn firmware_frames_equal_host_frames_and_counts_are_deterministic() {
 
 #[test]
 fn split_bands_on_the_device_looks_like_unlimited() {
+    if !system_tests::firmware_tools_present(
+        "split_bands_on_the_device_looks_like_unlimited",
+        "thumbv7em-none-eabihf",
+        true,
+    ) {
+        return;
+    }
     // The two-sided teapot in the default M4 memory: the device's frames are
     // the host's, and within the bounded-memory thresholds of `unlimited`
     // (NMSE 1e-4, at most 0.02 % of pixels off by more than 24 levels).
@@ -195,6 +209,13 @@ fn split_bands_on_the_device_looks_like_unlimited() {
 
 #[test]
 fn parameters_that_do_not_fit_stop_the_build_with_the_overshoot() {
+    if !system_tests::firmware_tools_present(
+        "parameters_that_do_not_fit_stop_the_build_with_the_overshoot",
+        "thumbv7em-none-eabihf",
+        true,
+    ) {
+        return;
+    }
     let config = FirmwareConfig {
         pool: 9000,
         frames: 1,

@@ -16,6 +16,13 @@ use std::time::Duration;
 
 #[test]
 fn oled_shows_the_host_rendering_in_4_bit_gray() {
+    if !system_tests::firmware_tools_present(
+        "oled_shows_the_host_rendering_in_4_bit_gray",
+        "thumbv7m-none-eabi",
+        true,
+    ) {
+        return;
+    }
     let dir = std::env::temp_dir().join(format!("abuffer-oled-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
