@@ -22,7 +22,7 @@ use crate::coverage::CoverageMask;
 use crate::fixed_point::DEPTH_MAX;
 use crate::fragment::Fragment;
 use crate::setup::{ColorPlanes, Edge, TriangleSetup};
-use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, LinearWalk32, PhongWalk, QuadraticWalk};
+use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, PhongWalk, QuadraticWalk};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// Samples where one edge function (value `e` at the pixel center, already biased)
@@ -307,10 +307,10 @@ where
     match colors() {
         ColorPlanes::Constant(c) => insert_with!(ConstantWalk(c)),
         ColorPlanes::Linear(p) => {
-            if LinearWalk32::fits(&p, setup) {
-                insert_with!(LinearWalk32::start(&p, j))
+            if LinearWalk::<i32>::fits(&p, setup) {
+                insert_with!(LinearWalk::<i32>::start(&p, j))
             } else {
-                insert_with!(LinearWalk::start(&p, j))
+                insert_with!(LinearWalk::<i64>::start(&p, j))
             }
         }
         ColorPlanes::Quadratic(p) => insert_with!(QuadraticWalk::start(&p, j)),

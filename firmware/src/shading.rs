@@ -532,75 +532,84 @@ impl ColorWalk for ConstantWalk {
     fn step(&self, _: &mut ()) {}
 }
 
-/// A channel with 16 fraction bits to 8 bits, rounded and clamped.
-#[inline]
-fn channel16(v: i64) -> u8 {
-    channel(v, 16)
+/// The integer a [`LinearWalk`] steps in: `i64` for any plane, `i32` for
+/// planes whose values over the bounding box fit ([`LinearWalk::fits`]). Both
+/// hold the same integers, so they give the same colors.
+pub trait PlaneValue:
+    Copy + core::ops::Add<Output = Self> + core::ops::AddAssign + core::ops::Mul<Output = Self>
+{
+    /// A plane value (the caller knows it fits).
+    fn from_i64(v: i64) -> Self;
+    /// `n` as a value.
+    fn from_count(n: u16) -> Self;
+    /// The 8-bit channel of a value with 16 fraction bits, rounded and clamped
+    /// to `[0, 255]` with one comparison in the common case.
+    fn channel16(self) -> u8;
 }
 
-/// Linear color planes (Gouraud): one addition per channel and pixel.
+impl PlaneValue for i64 {
+    #[inline]
+    fn from_i64(v: i64) -> Self {
+        v
+    }
+    #[inline]
+    fn from_count(n: u16) -> Self {
+        n as i64
+    }
+    #[inline]
+    fn channel16(self) -> u8 {
+        channel(self, 16)
+    }
+}
+
+impl PlaneValue for i32 {
+    #[inline]
+    fn from_i64(v: i64) -> Self {
+        v as i32
+    }
+    #[inline]
+    fn from_count(n: u16) -> Self {
+        n as i32
+    }
+    #[inline(always)]
+    fn channel16(self) -> u8 {
+        let c = (self + (1 << 15)) >> 16;
+        if (c as u32) <= 255 {
+            c as u8
+        } else if c < 0 {
+            0
+        } else {
+            255
+        }
+    }
+}
+
+/// Linear color planes (Gouraud): one addition per channel and pixel, in
+/// `i64` or, when [`LinearWalk::fits`], in `i32` (half the registers).
 #[derive(Clone, Copy, Debug)]
-pub struct LinearWalk {
-    row_start: [i64; 3],
-    dx: [i64; 3],
-    dy: [i64; 3],
+pub struct LinearWalk<V: PlaneValue = i64> {
+    row_start: [V; 3],
+    dx: [V; 3],
+    dy: [V; 3],
 }
 
-impl LinearWalk {
-    /// Starts at row `j` of the bounding box of planes `p` (16 fraction bits).
+impl<V: PlaneValue> LinearWalk<V> {
+    /// Starts at row `j` of the bounding box of planes `p` (16 fraction bits);
+    /// for `V = i32` the planes must [`LinearWalk::fits`].
     #[inline]
     pub fn start(p: &[Plane; 3], j: i64) -> Self {
         Self {
-            row_start: p.map(|p| p.origin + j * p.dy),
-            dx: p.map(|p| p.dx),
-            dy: p.map(|p| p.dy),
+            row_start: p.map(|p| V::from_i64(p.origin + j * p.dy)),
+            dx: p.map(|p| V::from_i64(p.dx)),
+            dy: p.map(|p| V::from_i64(p.dy)),
         }
     }
 }
 
-impl ColorWalk for LinearWalk {
-    type Row = [i64; 3];
-    #[inline]
-    fn row(&self) -> [i64; 3] {
-        self.row_start
-    }
-    #[inline]
-    fn next_row(&mut self) {
-        for c in 0..3 {
-            self.row_start[c] += self.dy[c];
-        }
-    }
-    #[inline]
-    fn color(&self, row: &[i64; 3]) -> Rgb888 {
-        Rgb888::new(channel16(row[0]), channel16(row[1]), channel16(row[2]))
-    }
-    #[inline]
-    fn step(&self, row: &mut [i64; 3]) {
-        for c in 0..3 {
-            row[c] += self.dx[c];
-        }
-    }
-    #[inline]
-    fn skip(&self, row: &mut [i64; 3], n: u16) {
-        for c in 0..3 {
-            row[c] += self.dx[c] * n as i64;
-        }
-    }
-}
-
-/// [`LinearWalk`] in 32-bit arithmetic, for planes whose values over the
-/// bounding box stay within `±2^30` ([`LinearWalk32::fits`], nearly every
-/// triangle): the same integers, so the same colors, at half the registers.
-#[derive(Clone, Copy, Debug)]
-pub struct LinearWalk32 {
-    row_start: [i32; 3],
-    dx: [i32; 3],
-    dy: [i32; 3],
-}
-
-impl LinearWalk32 {
+impl LinearWalk<i32> {
     /// Whether every value of planes `p` over the bounding box of `setup`
-    /// (and one step beyond it) fits in 31 bits.
+    /// (and one step beyond it) is below 2^30 in magnitude, so the walk can
+    /// run in `i32`.
     pub fn fits(p: &[Plane; 3], setup: &crate::setup::TriangleSetup) -> bool {
         let columns = (setup.x1 - setup.x0) as i64 + 1;
         let rows = (setup.y1 - setup.y0) as i64 + 1;
@@ -611,36 +620,12 @@ impl LinearWalk32 {
                 < 1 << 30
         })
     }
-
-    /// Starts at row `j` of the bounding box of planes `p` (16 fraction bits),
-    /// which [`LinearWalk32::fits`].
-    #[inline]
-    pub fn start(p: &[Plane; 3], j: i64) -> Self {
-        Self {
-            row_start: p.map(|p| (p.origin + j * p.dy) as i32),
-            dx: p.map(|p| p.dx as i32),
-            dy: p.map(|p| p.dy as i32),
-        }
-    }
 }
 
-/// [`channel16`] of a 32-bit value.
-#[inline(always)]
-fn channel16_narrow(v: i32) -> u8 {
-    let c = (v + (1 << 15)) >> 16;
-    if (c as u32) <= 255 {
-        c as u8
-    } else if c < 0 {
-        0
-    } else {
-        255
-    }
-}
-
-impl ColorWalk for LinearWalk32 {
-    type Row = [i32; 3];
+impl<V: PlaneValue> ColorWalk for LinearWalk<V> {
+    type Row = [V; 3];
     #[inline]
-    fn row(&self) -> [i32; 3] {
+    fn row(&self) -> [V; 3] {
         self.row_start
     }
     #[inline]
@@ -650,23 +635,19 @@ impl ColorWalk for LinearWalk32 {
         }
     }
     #[inline]
-    fn color(&self, row: &[i32; 3]) -> Rgb888 {
-        Rgb888::new(
-            channel16_narrow(row[0]),
-            channel16_narrow(row[1]),
-            channel16_narrow(row[2]),
-        )
+    fn color(&self, row: &[V; 3]) -> Rgb888 {
+        Rgb888::new(row[0].channel16(), row[1].channel16(), row[2].channel16())
     }
     #[inline]
-    fn step(&self, row: &mut [i32; 3]) {
+    fn step(&self, row: &mut [V; 3]) {
         for c in 0..3 {
             row[c] += self.dx[c];
         }
     }
     #[inline]
-    fn skip(&self, row: &mut [i32; 3], n: u16) {
+    fn skip(&self, row: &mut [V; 3], n: u16) {
         for c in 0..3 {
-            row[c] += self.dx[c] * n as i32;
+            row[c] += self.dx[c] * V::from_count(n);
         }
     }
 }
