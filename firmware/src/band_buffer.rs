@@ -21,8 +21,8 @@ pub trait BandBuffer<M: CoverageMask> {
     /// every pixel becomes empty.
     fn begin_band(&mut self, y0: u16, rows: u16);
     /// Draws one window-space triangle into the band starting at image row `band_y0`
-    /// with `band_rows` rows: sets it up, skips it when it faces away and the buffer already hides
-    /// it there, and rasterizes it otherwise ([`draw_in_band`]).
+    /// with `band_rows` rows: sets it up, skips it when it faces away and the
+    /// buffer already hides it there, and rasterizes it otherwise ([`draw_in_band`]).
     ///
     /// Buffers that decide about whole triangles before rasterizing them (culling
     /// against a z-buffer) override this; the others keep the default.
@@ -93,8 +93,8 @@ pub trait BandBuffer<M: CoverageMask> {
 
 /// What [`BandBuffer::draw_triangle`] does by default: sets the triangle up,
 /// skips it when it faces away and `buffer` already hides it in the whole
-/// band, and otherwise
-/// rasterizes it, setting up its colors only when a fragment survives.
+/// band, and otherwise rasterizes it, setting up its colors only when a
+/// fragment survives.
 /// Wrappers that override `draw_triangle` call this to draw the same way.
 pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
     buffer: &mut B,
