@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs every test on a fresh machine: installs what is missing (Rust targets,
-# QEMU), then checks formatting and lints, builds the library for bare-metal
+# QEMU, the toolchain of the workspace's rust-version), then checks formatting
+# and lints, checks the workspace with its minimum Rust version, builds the
+# library for bare-metal
 # targets, and runs the whole suite: host unit and system tests, the QEMU
 # firmware parity and instruction-count tests (Cortex-M4) and the SPI display
 # screendump test (Cortex-M3), the STM32F411 board firmware's link check and the
@@ -34,6 +36,11 @@ cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi -- -D warnings
 cargo clippy --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
+
+echo "== the declared minimum Rust version (workspace rust-version) builds everything"
+msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' Cargo.toml)
+rustup toolchain install "$msrv" --profile minimal >/dev/null
+CARGO_TARGET_DIR=target/msrv cargo +"$msrv" check --workspace --all-targets
 
 echo "== library for Cortex-M4F and Cortex-M0+"
 cargo build -p mcu-abuffer --release --target thumbv7em-none-eabihf
