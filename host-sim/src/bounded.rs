@@ -8,6 +8,7 @@
 use crate::builtins::builtin_scene;
 use crate::compare::nmse;
 use crate::convert::to_fixed;
+use crate::plot::{LineChart, Point, Scale, Series, PALETTE};
 use crate::render::{render, Method, RenderConfig};
 use std::fmt::Write as _;
 use std::time::Duration;
@@ -51,6 +52,11 @@ pub struct BoundedArgs {
     /// Image width and height.
     #[arg(long, default_value_t = 240)]
     pub size: u32,
+    /// Also plot the mean squared error of every image row of the first
+    /// scene, per method, over the turntable (SVG): streaks along band
+    /// boundaries show as peaks every `band` rows.
+    #[arg(long)]
+    pub row_plot: Option<std::path::PathBuf>,
 }
 
 /// The errors of one frame against its reference.
@@ -101,6 +107,23 @@ pub fn frame_errors(image: &[u8], reference: &[u8], width: usize, band: usize) -
     }
 }
 
+/// The mean squared difference per channel of every row of `image` against
+/// `reference` (RGB, `width` pixels per row).
+pub fn row_errors(image: &[u8], reference: &[u8], width: usize) -> Vec<f64> {
+    image
+        .chunks_exact(3 * width.max(1))
+        .zip(reference.chunks_exact(3 * width.max(1)))
+        .map(|(a, b)| {
+            let sum: u64 = a
+                .iter()
+                .zip(b)
+                .map(|(x, y)| (*x as i64 - *y as i64).pow(2) as u64)
+                .sum();
+            sum as f64 / a.len().max(1) as f64
+        })
+        .collect()
+}
+
 /// Runs the comparison and prints the table.
 pub fn run_bounded(args: &BoundedArgs) -> Result<(), String> {
     let mut table = String::new();
@@ -110,6 +133,7 @@ pub fn run_bounded(args: &BoundedArgs) -> Result<(), String> {
     )
     .unwrap();
     writeln!(table, "|---|---|---|---|---|---|---|").unwrap();
+    let mut series = Vec::new();
     for name in &args.scene {
         let desc = builtin_scene(name, args.size, args.size)
             .ok_or_else(|| format!("unknown built-in scene {name}"))?;
@@ -129,10 +153,18 @@ pub fn run_bounded(args: &BoundedArgs) -> Result<(), String> {
             .iter()
             .map(|&a| render(&scene, &config(Method::Unlimited), a))
             .collect::<Result<Vec<_>, _>>()?;
-        for &method in &args.methods {
+        let plotted = args.row_plot.is_some() && name == &args.scene[0];
+        for (m, &method) in args.methods.iter().enumerate() {
             let (mut worst, mut splits, mut time) = (FrameErrors::default(), 0u64, Duration::ZERO);
+            let mut rows = vec![0.0f64; args.size as usize];
             for (&angle, reference) in angles.iter().zip(&references) {
                 let out = render(&scene, &config(method), angle)?;
+                if plotted {
+                    let errors = row_errors(&out.rgb, &reference.rgb, out.width as usize);
+                    for (sum, e) in rows.iter_mut().zip(errors) {
+                        *sum += e / angles.len() as f64;
+                    }
+                }
                 let e = frame_errors(
                     &out.rgb,
                     &reference.rgb,
@@ -158,9 +190,43 @@ pub fn run_bounded(args: &BoundedArgs) -> Result<(), String> {
                 time.as_secs_f64() * 1000.0 / angles.len() as f64,
             )
             .unwrap();
+            if plotted {
+                series.push(Series {
+                    name: method_name(method),
+                    color: PALETTE[m % PALETTE.len()],
+                    dashed: false,
+                    points: rows
+                        .iter()
+                        .enumerate()
+                        .map(|(y, &e)| Point {
+                            x: y as f64,
+                            y: e,
+                            label: None,
+                        })
+                        .collect(),
+                });
+            }
         }
     }
     print!("{table}");
+    if let Some(path) = &args.row_plot {
+        let chart = LineChart {
+            title: format!(
+                "{}: error per image row against unlimited, mean of {} frames",
+                args.scene[0], args.frames
+            ),
+            x_label: format!("image row (bands of {} rows)", args.band),
+            y_label: "mean squared difference per channel".into(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Log10,
+            series,
+            note: Some(format!(
+                "main {}, extra {}, pool {}; markers on the bottom edge: no error",
+                args.main, args.extra, args.pool
+            )),
+        };
+        std::fs::write(path, chart.to_svg()).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
     Ok(())
 }
 
@@ -190,6 +256,11 @@ mod tests {
         assert_eq!(e.speckles, 8);
         // All the error sits in one of four row positions.
         assert!((e.worst_band_row - 4.0).abs() < 1e-9);
+        let rows = row_errors(&image, &reference, 4);
+        assert_eq!(rows.len(), 8);
+        // Row 3: one channel of four pixels off by 40, over 12 channels.
+        assert!((rows[3] - 4.0 * 1600.0 / 12.0).abs() < 1e-9);
+        assert_eq!(rows[0], 0.0);
         let same = frame_errors(&reference, &reference, 4, 4);
         assert_eq!(
             (same.nmse, same.speckles, same.worst_band_row),
