@@ -1,16 +1,15 @@
 //! Running the library renderer on the desktop with vectors for its buffers.
 
 use crate::convert::FixedScene;
+use abuffer_test_support::{FragmentStorage, OwnedWorkspace};
 use embedded_graphics_core::pixelcolor::Rgb888;
 use mcu_abuffer::band_buffer::{draw_in_band, BandBuffer, DrawParams, PoolUse};
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::Coord;
-use mcu_abuffer::fragment::{Fragment, PackedFragment};
-use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
+use mcu_abuffer::fragment::Fragment;
+use mcu_abuffer::fragment_buffer::{BufferConfig, OverflowPolicy};
 use mcu_abuffer::pool::PoolAddress;
-use mcu_abuffer::renderer::{
-    render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
-};
+use mcu_abuffer::renderer::{render_frame, FrameOptions};
 use mcu_abuffer::setup::{Rejection, SetupVertex};
 use mcu_abuffer::sink::ImageSink;
 use mcu_abuffer::stats::{BufferStats, FrameStats};
@@ -272,45 +271,6 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
     }
 }
 
-/// Owned storage of a frame workspace, sized for one scene.
-pub struct Workspace {
-    objects: Vec<ObjectFrame>,
-    vertices: Vec<ScreenVertex>,
-    rows: Vec<u16>,
-    order: Vec<u32>,
-    row_starts: Vec<u32>,
-    line: Vec<Rgb888>,
-}
-
-impl Workspace {
-    /// Storage for `s`: one entry per object, vertex, triangle, row and column.
-    pub fn for_scene(s: &FixedScene) -> Self {
-        let nv: usize = s.meshes.iter().map(|m| m.positions.len()).sum();
-        let nt = s.triangle_count();
-        let empty_object = ObjectFrame::EMPTY;
-        Self {
-            objects: vec![empty_object; s.meshes.len()],
-            vertices: vec![ScreenVertex::default(); nv],
-            rows: vec![0; nt],
-            order: vec![0; nt],
-            row_starts: vec![0; s.height as usize + 1],
-            line: vec![Rgb888::new(0, 0, 0); s.width as usize],
-        }
-    }
-
-    /// The workspace the renderer takes.
-    pub fn borrow(&mut self) -> FrameWorkspace<'_> {
-        FrameWorkspace {
-            objects: &mut self.objects,
-            vertices: &mut self.vertices,
-            triangle_rows: &mut self.rows,
-            triangle_order: &mut self.order,
-            row_starts: &mut self.row_starts,
-            line: &mut self.line,
-        }
-    }
-}
-
 /// Renders `scene` with `config`, turned by `turntable_deg` about the world Y axis.
 pub fn render(
     scene: &FixedScene,
@@ -337,7 +297,7 @@ pub fn render(
     let options = FrameOptions {
         turntable_deg: Coord::saturating_from_num(turntable_deg),
     };
-    let mut ws = Workspace::for_scene(scene);
+    let mut ws = OwnedWorkspace::for_scene(&lib_scene);
     let mut rgb = vec![0u8; w as usize * h as usize * 3];
     let mut generated = vec![0u16; w as usize * h as usize];
     let mut stored = vec![0u8; w as usize * h as usize];
@@ -447,15 +407,15 @@ pub fn render(
             match config.grid {
                 Grid::G4x4 => {
                     let mut storage = abuffer::<Mask4x4, u32>(cfg, pool)?;
-                    run!(storage.as_buffer()?, Mask4x4)
+                    run!(storage.try_buffer().map_err(|e| e.to_string())?, Mask4x4)
                 }
                 Grid::G8x4 => {
                     let mut storage = abuffer::<Mask8x4, u32>(cfg, pool)?;
-                    run!(storage.as_buffer()?, Mask8x4)
+                    run!(storage.try_buffer().map_err(|e| e.to_string())?, Mask8x4)
                 }
                 Grid::G8x8 => {
                     let mut storage = abuffer::<Mask8x8, u32>(cfg, pool)?;
-                    run!(storage.as_buffer()?, Mask8x8)
+                    run!(storage.try_buffer().map_err(|e| e.to_string())?, Mask8x8)
                 }
             }
         }
@@ -472,47 +432,17 @@ pub fn render(
     })
 }
 
-/// Owned storage of a fragment buffer.
-pub struct AbufferStorage<M: CoverageMask, A: PoolAddress> {
-    config: BufferConfig,
-    counts: Vec<u8>,
-    main: Vec<PackedFragment<M>>,
-    addresses: Vec<A>,
-    pool: Vec<PackedFragment<M>>,
-}
-
-/// Allocates storage for a fragment buffer of `config` with `pool` slots.
+/// Storage for a fragment buffer of `config` with `pool` slots, or why the
+/// pool is larger than an address of type `A` reaches (before allocating it).
 pub fn abuffer<M: CoverageMask, A: PoolAddress>(
     config: BufferConfig,
     pool: usize,
-) -> Result<AbufferStorage<M, A>, String> {
+) -> Result<FragmentStorage<M, A>, String> {
     if pool > A::MAX_POOL {
         return Err(format!(
             "pool of {pool} slots exceeds the {} an address can reach",
             A::MAX_POOL
         ));
     }
-    Ok(AbufferStorage {
-        config,
-        counts: vec![0; config.pixels()],
-        main: vec![PackedFragment::default(); config.main_slot_count()],
-        addresses: vec![A::default(); config.address_count()],
-        pool: vec![PackedFragment::default(); pool],
-    })
-}
-
-impl<M: CoverageMask, A: PoolAddress> AbufferStorage<M, A> {
-    /// The fragment buffer over this storage.
-    pub fn as_buffer(&mut self) -> Result<FragmentBuffer<'_, M, A>, String> {
-        FragmentBuffer::new(
-            self.config,
-            BufferStorage {
-                counts: &mut self.counts,
-                main: &mut self.main,
-                addresses: &mut self.addresses,
-                pool: &mut self.pool,
-            },
-        )
-        .map_err(|e| e.to_string())
-    }
+    Ok(FragmentStorage::new(config, pool))
 }
