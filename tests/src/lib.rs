@@ -530,9 +530,9 @@ pub fn triangle_streams<M: CoverageMask>(
 /// Whether the tools a firmware test needs are here: `qemu-system-arm` on the
 /// `PATH` (when `qemu` is set) and the Rust `target` installed. When one is
 /// missing, the test should return early: this prints why and returns `false`,
-/// unless `ABUFFER_REQUIRE_FIRMWARE_TOOLS=1` is set (the README's test command
-/// sets it, after installing both), in which case it panics instead, so that a
-/// missing tool fails loudly rather than skipping.
+/// unless `ABUFFER_REQUIRE_QEMU=1` is set (the README's test command sets it,
+/// after installing both), in which case it panics instead, so that a missing
+/// tool fails loudly rather than skipping.
 pub fn firmware_tools_present(test: &str, target: &str, qemu: bool) -> bool {
     let mut missing = Vec::new();
     if qemu
@@ -560,13 +560,16 @@ pub fn firmware_tools_present(test: &str, target: &str, qemu: bool) -> bool {
     if missing.is_empty() {
         return true;
     }
-    let why = format!("{test}: skipped, missing {}", missing.join(" and "));
-    if std::env::var("ABUFFER_REQUIRE_FIRMWARE_TOOLS").as_deref() == Ok("1") {
-        panic!("{why} (ABUFFER_REQUIRE_FIRMWARE_TOOLS=1)");
+    let missing = missing.join(" and ");
+    if std::env::var("ABUFFER_REQUIRE_QEMU").as_deref() == Ok("1") {
+        panic!("{test}: missing {missing}, required by ABUFFER_REQUIRE_QEMU=1");
     }
     // Straight to the process's stderr: the test harness would hide an
     // `eprintln!` of a passing test.
     use std::io::Write as _;
-    let _ = writeln!(std::io::stderr().lock(), "{why}");
+    let _ = writeln!(
+        std::io::stderr().lock(),
+        "{test}: skipped, missing {missing}"
+    );
     false
 }
