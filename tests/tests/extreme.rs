@@ -14,8 +14,9 @@
 //!   is lost. A workspace too small for the scene is an error before any drawing.
 //!
 //! Every rendering also goes through the buffer's invariant checks of
-//! [`checked_render`]: stored masks pairwise disjoint, no pixel over its budget,
-//! every pool slot accounted for.
+//! [`checked_render`] (`abuffer_test_support::Checked`, after every insertion
+//! and at the end of every band): stored masks pairwise disjoint, no pixel over
+//! its budget, every pool slot accounted for.
 
 use abuffer_test_support::{
     first_difference, Checked, FragmentStorage, OwnedObject, OwnedScene, OwnedWorkspace,
