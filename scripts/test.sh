@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Runs every test on a fresh machine: installs what is missing (Rust targets,
-# QEMU), then checks formatting and lints, builds the library for bare-metal
-# targets, and runs the whole suite: host unit and system tests, the QEMU
+# Runs every test on a fresh machine: installs what is missing (the toolchain of
+# rust-toolchain.toml with its targets, QEMU), then checks formatting and lints,
+# builds the library for bare-metal targets, and runs the whole suite: host unit and system tests, the QEMU
 # firmware parity and instruction-count tests (Cortex-M4) and the SPI display
 # screendump test (Cortex-M3), the STM32F411 board firmware's link check and the
 # host test of its display path, checks the board's chip name and memory against
@@ -12,6 +12,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 echo "== setup"
+# The toolchain rust-toolchain.toml names, with its components and targets
+# (older rustup installs it on first use instead).
+rustup toolchain install 2>/dev/null || true
 rustup component add rustfmt clippy >/dev/null 2>&1 || true
 rustup target add thumbv7em-none-eabihf thumbv7m-none-eabi thumbv6m-none-eabi
 if ! command -v qemu-system-arm >/dev/null 2>&1; then
