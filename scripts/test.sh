@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Runs every test on a fresh machine: installs what is missing (the toolchain of
-# rust-toolchain.toml with its targets, QEMU), then checks formatting and lints,
-# builds the library for bare-metal targets, and runs the whole suite: host unit and system tests, the QEMU
+# rust-toolchain.toml with its targets, QEMU, the toolchain of the workspace's
+# minimum Rust version when it can be had), then checks formatting and lints,
+# checks the workspace with its minimum Rust version, builds the library for
+# bare-metal targets, and runs the whole suite: host unit and system tests, the QEMU
 # firmware parity and instruction-count tests (Cortex-M4) and the SPI display
 # screendump test (Cortex-M3), the STM32F411 board firmware's link check and the
 # host test of its display path, checks the board's chip name and memory against
@@ -37,6 +39,15 @@ cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi -- -D warnings
 cargo clippy --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
+
+echo "== minimum Rust version (rust-version in Cargo.toml): the workspace and its tests check with it"
+msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' Cargo.toml)
+rustup toolchain install "$msrv" --profile minimal >/dev/null 2>&1 || true
+if rustup toolchain list | grep -q "^$msrv-"; then
+  CARGO_TARGET_DIR=target/msrv cargo +"$msrv" check --workspace --all-targets
+else
+  echo "the Rust $msrv toolchain could not be installed: the minimum Rust version is not checked" >&2
+fi
 
 echo "== library for Cortex-M4F and Cortex-M0+"
 cargo build -p mcu-abuffer --release --target thumbv7em-none-eabihf

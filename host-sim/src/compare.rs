@@ -85,7 +85,7 @@ pub fn nmse(image: &[u8], reference: &[u8]) -> f64 {
 
 /// Compares two RGB888 images of `width x height` pixels.
 pub fn compare_rgb(image: &[u8], reference: &[u8]) -> Result<ImageDiff, String> {
-    if image.len() != reference.len() || image.len() % 3 != 0 {
+    if image.len() != reference.len() || !image.len().is_multiple_of(3) {
         return Err(format!(
             "images hold {} and {} bytes; both must be the same number of RGB pixels",
             image.len(),

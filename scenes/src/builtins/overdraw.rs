@@ -65,7 +65,7 @@ pub(super) fn overdraw_objects(params: &[&str]) -> Option<Vec<ObjectDesc>> {
     let sphere_mesh = icosphere(SPHERE_LEVEL);
     let objects = (0..n)
         .map(|_| {
-            let is_cube = rng.next_u64() % 3 != 0;
+            let is_cube = !rng.next_u64().is_multiple_of(3);
             let position = [
                 rng.uniform(-HALF_WIDTH, HALF_WIDTH),
                 rng.uniform(-HALF_HEIGHT, HALF_HEIGHT),
