@@ -6,14 +6,13 @@
 //! scene it accepts must render with every invariant of `render_checked` holding.
 #![no_main]
 
-use abuffer_fuzz::{render_checked, BufferParams, DeviceScene};
+use abuffer_fuzz::{device_scene, render_checked, BufferParams};
 use libfuzzer_sys::arbitrary::Unstructured;
 use libfuzzer_sys::fuzz_target;
-use mcu_abuffer::renderer::FrameOptions;
 
 fuzz_target!(|data: &[u8]| {
     let mut u = Unstructured::new(data);
-    let Ok(scene) = DeviceScene::decode(&mut u) else {
+    let Ok(scene) = device_scene(&mut u) else {
         return;
     };
     let Ok(params) = BufferParams::decode(&mut u, scene.height) else {
@@ -32,8 +31,5 @@ fuzz_target!(|data: &[u8]| {
     if valid.is_err() {
         return;
     }
-    let options = FrameOptions {
-        turntable_deg: scene.turntable,
-    };
-    render_checked(&lib_scene, &options, &params, with_oracle);
+    render_checked(&lib_scene, &scene.options(), &params, with_oracle);
 });

@@ -2,35 +2,39 @@
 //!
 //! - Decoders that turn fuzzer bytes into scenes, leaning towards extreme values:
 //!   every fixed-point extreme of [`Coord`] and the unit type for the device API
-//!   ([`DeviceScene`]), and NaN, infinities, subnormals and huge or tiny floats for
+//!   ([`device_scene`]), and NaN, infinities, subnormals and huge or tiny floats for
 //!   the host API ([`host_scene`]).
 //! - [`BufferParams`]: legal buffer parameters, down to the smallest (one main slot,
 //!   no pool address, a pool of 0 or 1 slot, bands of one row).
-//! - [`render_checked`]: renders through a fragment buffer wrapped in a checker that,
-//!   after every insertion and at the end of every band, asserts the A-buffer's
-//!   invariants: stored masks non-empty and pairwise disjoint, lists sorted by depth,
-//!   no pixel over its budget, every pool slot accounted for while the band is open
-//!   and the whole pool free once it closes, fragments only inside the band. Every
-//!   scene is rendered twice through the same buffer and must give the same image
-//!   and statistics; an unlimited buffer must also match a per-sample z-buffer.
+//! - [`render_checked`]: renders through a fragment buffer wrapped in
+//!   `abuffer_test_support`'s `Checked`, which after every insertion and at the
+//!   end of every band asserts the A-buffer's invariants: stored masks non-empty
+//!   and pairwise disjoint, lists sorted by depth, no pixel over its budget, every
+//!   pool slot accounted for while the band is open and the whole pool free once
+//!   it closes, fragments only inside the band. Every scene is rendered twice
+//!   through the same buffer and the same workspace and must give the same image
+//!   and statistics; an unlimited buffer must also match `abuffer_test_support`'s
+//!   per-sample z-buffer.
 //!
 //! A failed check panics, which libFuzzer reports as a crash.
 
+use abuffer_test_support::{
+    first_difference, render_rgb, Checked, FragmentStorage, OwnedObject, OwnedScene,
+    OwnedWorkspace, PerSampleZBuffer,
+};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use fixed::types::I2F14;
 use libfuzzer_sys::arbitrary::{Result, Unstructured};
-use mcu_abuffer::band_buffer::{BandBuffer, PoolUse};
+use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
-use mcu_abuffer::fixed_point::{Coord, DEPTH_MAX};
-use mcu_abuffer::fragment::{Fragment, PackedFragment};
-use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
-use mcu_abuffer::renderer::{
-    render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
-};
-use mcu_abuffer::scene::{Camera, Light, Mesh, Normal, Scene, SceneObject, Shading, Transform};
-use mcu_abuffer::sink::ImageSink;
-use mcu_abuffer::stats::{BufferStats, FrameStats};
+use mcu_abuffer::fixed_point::Coord;
+use mcu_abuffer::fragment_buffer::{BufferConfig, OverflowPolicy};
+use mcu_abuffer::renderer::FrameOptions;
+use mcu_abuffer::scene::{Camera, Light, Normal, Scene, Shading, Transform};
 use mcu_abuffer::zbuffer::ZBuffer;
+
+/// What a checked rendering produced.
+pub use abuffer_test_support::Rendered;
 
 /// The largest image side the fuzz targets render. The extremes are in the
 /// coordinates, not the image size; small images keep executions fast.
@@ -185,141 +189,73 @@ fn indices(u: &mut Unstructured<'_>, vertices: usize) -> Result<[u32; 3]> {
 // Device scenes: raw fixed-point values straight into `mcu_abuffer::Scene`
 // ---------------------------------------------------------------------------------
 
-/// One object of a [`DeviceScene`], owning its mesh.
-#[derive(Clone, Debug)]
-pub struct DeviceObject {
-    /// Positions.
-    pub positions: Vec<[Coord; 3]>,
-    /// Normals (any bits, not necessarily unit length).
-    pub normals: Vec<Normal>,
-    /// Triangles (indices possibly out of range).
-    pub triangles: Vec<[u32; 3]>,
-    /// Base color.
-    pub color: Rgb888,
-    /// Placement.
-    pub transform: Transform,
-    /// Back-face culling.
-    pub cull: bool,
-    /// Shading mode.
-    pub shading: Shading,
-}
-
-/// A scene decoded from fuzzer bytes in the renderer's own fixed-point types.
-#[derive(Clone, Debug)]
-pub struct DeviceScene {
-    /// Image width (`1..=MAX_SIDE`).
-    pub width: u16,
-    /// Image height (`1..=MAX_SIDE`).
-    pub height: u16,
-    /// Background.
-    pub background: Rgb888,
-    /// Camera, any values.
-    pub camera: Camera,
-    /// Light, any values.
-    pub light: Option<Light>,
-    /// Objects.
-    pub objects: Vec<DeviceObject>,
-    /// Turntable angle.
-    pub turntable: Coord,
-}
-
-impl DeviceScene {
-    /// Decodes a scene; values lean towards the extremes of their types.
-    pub fn decode(u: &mut Unstructured<'_>) -> Result<Self> {
-        let width = u.int_in_range(1..=MAX_SIDE)?;
-        let height = u.int_in_range(1..=MAX_SIDE)?;
-        let background = color(u)?;
-        // Units of 1/256: eyes and targets within 16 units, fields of view of
-        // 10 to 170 degrees, near planes from 1/256 to 2, far ones to 1000.
-        let camera = Camera {
-            eye: coord3_or(u, -4096..=4096)?,
-            target: coord3_or(u, -4096..=4096)?,
-            up: coord3_or(u, -256..=256)?,
-            fov_y_deg: coord_or(u, 2560..=43520)?,
-            near: coord_or(u, 1..=512)?,
-            far: coord_or(u, 1024..=256_000)?,
-        };
-        let light = if u.arbitrary()? {
-            Some(Light {
-                direction: extreme_coord3(u)?,
-                ambient: extreme_coord(u)?,
-                diffuse: extreme_coord(u)?,
-                specular: extreme_coord(u)?,
-                shininess: u.arbitrary()?,
-            })
-        } else {
-            None
-        };
-        let turntable = extreme_coord(u)?;
-        let n_objects = u.int_in_range(1..=MAX_OBJECTS)?;
-        let mut objects = Vec::with_capacity(n_objects);
-        for _ in 0..n_objects {
-            let n_vertices = u.int_in_range(0..=MAX_VERTICES)?;
-            let mut positions = Vec::with_capacity(n_vertices);
-            let mut normals = Vec::with_capacity(n_vertices);
-            for _ in 0..n_vertices {
-                positions.push(extreme_coord3(u)?);
-                normals.push(extreme_normal(u)?);
-            }
-            let n_triangles = u.int_in_range(0..=MAX_TRIANGLES)?;
-            let mut triangles = Vec::with_capacity(n_triangles);
-            for _ in 0..n_triangles {
-                triangles.push(indices(u, n_vertices)?);
-            }
-            objects.push(DeviceObject {
-                positions,
-                normals,
-                triangles,
-                color: color(u)?,
-                transform: Transform {
-                    position: coord3_or(u, -2048..=2048)?,
-                    rotation_deg: extreme_coord3(u)?,
-                    scale: coord_or(u, 1..=1024)?,
-                },
-                cull: u.arbitrary()?,
-                shading: shading(u)?,
-            });
-        }
-        Ok(Self {
-            width,
-            height,
-            background,
-            camera,
-            light,
-            objects,
-            turntable,
+/// Decodes a scene in the renderer's own fixed-point types; values lean towards
+/// the extremes of their types (any camera, light and transform, normals of any
+/// bits, triangle indices possibly out of range).
+pub fn device_scene(u: &mut Unstructured<'_>) -> Result<OwnedScene> {
+    let width = u.int_in_range(1..=MAX_SIDE)?;
+    let height = u.int_in_range(1..=MAX_SIDE)?;
+    let background = color(u)?;
+    // Units of 1/256: eyes and targets within 16 units, fields of view of
+    // 10 to 170 degrees, near planes from 1/256 to 2, far ones to 1000.
+    let camera = Camera {
+        eye: coord3_or(u, -4096..=4096)?,
+        target: coord3_or(u, -4096..=4096)?,
+        up: coord3_or(u, -256..=256)?,
+        fov_y_deg: coord_or(u, 2560..=43520)?,
+        near: coord_or(u, 1..=512)?,
+        far: coord_or(u, 1024..=256_000)?,
+    };
+    let light = if u.arbitrary()? {
+        Some(Light {
+            direction: extreme_coord3(u)?,
+            ambient: extreme_coord(u)?,
+            diffuse: extreme_coord(u)?,
+            specular: extreme_coord(u)?,
+            shininess: u.arbitrary()?,
         })
-    }
-
-    /// The library objects, borrowing this scene's meshes.
-    pub fn objects(&self) -> Vec<SceneObject<'_>> {
-        self.objects
-            .iter()
-            .map(|o| SceneObject {
-                mesh: Mesh {
-                    positions: &o.positions,
-                    normals: &o.normals,
-                    triangles: &o.triangles,
-                },
-                color: o.color,
-                transform: o.transform,
-                cull_backfaces: o.cull,
-                shading: o.shading,
-            })
-            .collect()
-    }
-
-    /// The library scene over `objects` (from [`DeviceScene::objects`]).
-    pub fn scene<'a>(&self, objects: &'a [SceneObject<'a>]) -> Scene<'a> {
-        Scene {
-            width: self.width,
-            height: self.height,
-            background: self.background,
-            camera: self.camera,
-            light: self.light,
-            objects,
+    } else {
+        None
+    };
+    let turntable = extreme_coord(u)?;
+    let n_objects = u.int_in_range(1..=MAX_OBJECTS)?;
+    let mut objects = Vec::with_capacity(n_objects);
+    for _ in 0..n_objects {
+        let n_vertices = u.int_in_range(0..=MAX_VERTICES)?;
+        let mut positions = Vec::with_capacity(n_vertices);
+        let mut normals = Vec::with_capacity(n_vertices);
+        for _ in 0..n_vertices {
+            positions.push(extreme_coord3(u)?);
+            normals.push(extreme_normal(u)?);
         }
+        let n_triangles = u.int_in_range(0..=MAX_TRIANGLES)?;
+        let mut triangles = Vec::with_capacity(n_triangles);
+        for _ in 0..n_triangles {
+            triangles.push(indices(u, n_vertices)?);
+        }
+        objects.push(OwnedObject {
+            positions,
+            normals,
+            triangles,
+            color: color(u)?,
+            transform: Transform {
+                position: coord3_or(u, -2048..=2048)?,
+                rotation_deg: extreme_coord3(u)?,
+                scale: coord_or(u, 1..=1024)?,
+            },
+            cull: u.arbitrary()?,
+            shading: shading(u)?,
+        });
     }
+    Ok(OwnedScene {
+        width,
+        height,
+        background,
+        camera,
+        light,
+        objects,
+        turntable_deg: turntable,
+    })
 }
 
 // ---------------------------------------------------------------------------------
@@ -519,224 +455,30 @@ impl BufferParams {
 // Checked rendering
 // ---------------------------------------------------------------------------------
 
-/// What a checked rendering produced.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Rendered {
-    /// RGB888 pixels, rows top to bottom.
-    pub rgb: Vec<u8>,
-    /// Frame statistics.
-    pub stats: FrameStats,
-}
-
-/// Owned frame workspace for a scene.
-struct Workspace {
-    objects: Vec<ObjectFrame>,
-    vertices: Vec<ScreenVertex>,
-    rows: Vec<u16>,
-    order: Vec<u32>,
-    row_starts: Vec<u32>,
-    line: Vec<Rgb888>,
-}
-
-impl Workspace {
-    fn new(scene: &Scene<'_>) -> Self {
-        let empty = ObjectFrame::EMPTY;
-        Self {
-            objects: vec![empty; scene.objects.len()],
-            vertices: vec![ScreenVertex::default(); scene.vertex_count()],
-            rows: vec![0; scene.triangle_count()],
-            order: vec![0; scene.triangle_count()],
-            row_starts: vec![0; scene.height as usize + 1],
-            line: vec![Rgb888::BLACK; scene.width as usize],
-        }
-    }
-
-    fn frame(&mut self) -> FrameWorkspace<'_> {
-        FrameWorkspace {
-            objects: &mut self.objects,
-            vertices: &mut self.vertices,
-            triangle_rows: &mut self.rows,
-            triangle_order: &mut self.order,
-            row_starts: &mut self.row_starts,
-            line: &mut self.line,
-        }
-    }
-}
-
-/// Renders one frame through `buffer`; the scene must be valid.
+/// Renders one frame through `workspace` and `buffer`; the scene must be valid.
 fn frame<M: CoverageMask, B: BandBuffer<M>>(
     scene: &Scene<'_>,
     options: &FrameOptions,
+    workspace: &mut OwnedWorkspace,
     buffer: &mut B,
 ) -> Rendered {
-    let mut ws = Workspace::new(scene);
-    let mut rgb = vec![0u8; scene.width as usize * scene.height as usize * 3];
-    let stats = {
-        let mut sink = ImageSink::new(scene.width, &mut rgb);
-        render_frame(
-            scene,
-            options,
-            &mut ws.frame(),
-            buffer,
-            &mut sink,
-            |_, _, _| {},
-        )
+    render_rgb(scene, options, workspace, buffer, |_, _, _| {})
         .unwrap_or_else(|e| panic!("a valid scene failed to render: {e}"))
-    };
-    Rendered { rgb, stats }
 }
 
-/// A fragment buffer that checks the A-buffer's invariants as it goes.
-struct Checked<'a, M: CoverageMask> {
-    inner: FragmentBuffer<'a, M, u16>,
-    rows: u16,
-    open: bool,
-}
-
-impl<M: CoverageMask> Checked<'_, M> {
-    /// Checks pixel `(x, row)` and returns how many pool slots it uses.
-    fn check_pixel(&self, x: u16, row: u16) -> usize {
-        let config = self.inner.config();
-        let list: Vec<Fragment<M>> = self.inner.fragments(x, row).collect();
-        assert!(
-            list.len() <= config.pixel_capacity(),
-            "pixel ({x}, {row}) holds {} fragments, its budget is {}",
-            list.len(),
-            config.pixel_capacity()
-        );
-        assert_eq!(
-            list.len() as u32,
-            self.inner.pixel_fragment_count(x, row),
-            "fragment count of pixel ({x}, {row})"
-        );
-        for (i, f) in list.iter().enumerate() {
-            assert!(
-                !f.mask.is_empty(),
-                "pixel ({x}, {row}) stores an empty fragment"
-            );
-            assert!(
-                f.z <= DEPTH_MAX,
-                "pixel ({x}, {row}): depth {} out of range",
-                f.z
-            );
-            for g in &list[i + 1..] {
-                assert!(
-                    (f.mask & g.mask).is_empty(),
-                    "pixel ({x}, {row}): stored masks {:?} and {:?} overlap",
-                    f.mask,
-                    g.mask
-                );
-                assert!(f.z <= g.z, "pixel ({x}, {row}): list not sorted by depth");
-            }
-        }
-        list.len().saturating_sub(config.main_slots as usize)
-    }
-
-    /// Checks every pixel of the open band and the pool's accounting.
-    fn check_band(&self) {
-        let mut pool_slots = 0;
-        for row in 0..self.rows {
-            for x in 0..self.inner.config().width {
-                pool_slots += self.check_pixel(x, row);
-            }
-        }
-        let pool = self.inner.pool();
-        assert_eq!(
-            pool.in_use(),
-            pool_slots,
-            "pool slots in use differ from the slots the pixels' lists hold"
-        );
-        assert!(pool.in_use() <= pool.capacity());
-    }
-}
-
-impl<M: CoverageMask> BandBuffer<M> for Checked<'_, M> {
-    fn width(&self) -> u16 {
-        self.inner.width()
-    }
-
-    fn band_height(&self) -> u16 {
-        self.inner.band_height()
-    }
-
-    fn begin_band(&mut self, y0: u16, rows: u16) {
-        assert!(!self.open, "band begun twice");
-        assert!(rows >= 1 && rows <= self.inner.band_height());
-        self.inner.begin_band(y0, rows);
-        assert_eq!(self.inner.pool().in_use(), 0, "pool not free at band start");
-        self.rows = rows;
-        self.open = true;
-    }
-
-    fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
-        assert!(self.open, "fragment outside a band");
-        assert!(
-            x < self.inner.width() && row < self.rows,
-            "fragment at ({x}, {row}) outside the {}x{} band",
-            self.inner.width(),
-            self.rows
-        );
-        assert!(!fragment.mask.is_empty(), "empty fragment inserted");
-        assert!(
-            fragment.z <= DEPTH_MAX,
-            "fragment depth {} out of range",
-            fragment.z
-        );
-        self.inner.insert(x, row, fragment);
-        self.check_pixel(x, row);
-    }
-
-    fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<M>) -> bool {
-        assert!(self.open, "fragment outside a band");
-        assert!(x < self.inner.width() && row < self.rows);
-        let before: Vec<Fragment<M>> = self.inner.fragments(x, row).collect();
-        let survives = self.inner.survives(x, row, fragment);
-        let after: Vec<Fragment<M>> = self.inner.fragments(x, row).collect();
-        assert_eq!(before, after, "asking whether a fragment survives changed the pixel");
-        survives
-    }
-
-    fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
-        assert!(x < self.inner.width() && row < self.rows);
-        self.inner.hides(x, row, depth)
-    }
-
-    fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
-        self.inner.count_triangle_test(pixels, hidden)
-    }
-
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        assert!(row < self.rows);
-        self.inner.resolve_row(row, background, out)
-    }
-
-    fn end_band(&mut self) {
-        assert!(self.open, "band ended twice");
-        self.check_band();
-        self.inner.end_band();
-        assert_eq!(
-            self.inner.pool().in_use(),
-            0,
-            "pool not free after the band"
-        );
-        self.open = false;
-    }
-
-    fn pool_use(&self) -> PoolUse {
-        self.inner.pool_use()
-    }
-
-    fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
-        self.inner.pixel_fragment_count(x, row)
-    }
-
-    fn stats(&self) -> BufferStats {
-        self.inner.stats()
-    }
-
-    fn take_stats(&mut self) -> BufferStats {
-        self.inner.take_stats()
-    }
+/// Renders `scene` twice through the same `buffer` and the same workspace, as a
+/// device renders frame after frame; the two frames must be equal.
+fn twice<M: CoverageMask, B: BandBuffer<M>>(
+    scene: &Scene<'_>,
+    options: &FrameOptions,
+    buffer: &mut B,
+    what: &str,
+) -> Rendered {
+    let mut workspace = OwnedWorkspace::for_scene(scene);
+    let first = frame(scene, options, &mut workspace, buffer);
+    let second = frame(scene, options, &mut workspace, buffer);
+    assert_eq!(first, second, "the same scene rendered twice differs{what}");
+    first
 }
 
 /// Renders `scene` twice through one A-buffer of `params`, checking every band.
@@ -752,173 +494,22 @@ fn abuffer_twice<M: CoverageMask>(
         extra_addresses: params.extra,
         policy: params.policy,
     };
-    let mut counts = vec![0u8; config.pixels()];
-    let mut main = vec![PackedFragment::<M>::default(); config.main_slot_count()];
-    let mut addresses = vec![0u16; config.address_count()];
-    let mut pool = vec![PackedFragment::<M>::default(); params.pool];
-    let inner = FragmentBuffer::new(
-        config,
-        BufferStorage {
-            counts: &mut counts,
-            main: &mut main,
-            addresses: &mut addresses,
-            pool: &mut pool,
-        },
-    )
-    .unwrap_or_else(|e| panic!("legal parameters {params:?} rejected: {e}"));
-    let mut buffer = Checked {
-        inner,
-        rows: 0,
-        open: false,
-    };
-    let first = frame(scene, options, &mut buffer);
-    // The same buffer again, as a device renders frame after frame.
-    let second = frame(scene, options, &mut buffer);
-    assert_eq!(first, second, "the same scene rendered twice differs");
-    first
+    let mut storage = FragmentStorage::<M, u16>::new(config, params.pool);
+    let inner = storage
+        .try_buffer()
+        .unwrap_or_else(|e| panic!("legal parameters {params:?} rejected: {e}"));
+    twice(scene, options, &mut Checked::new(inner), "")
 }
 
-/// Renders `scene` twice through a z-buffer.
+/// Renders `scene` twice through a z-buffer, checking that bands are begun and
+/// ended in turn and that fragments land inside them.
 fn zbuffer_twice(scene: &Scene<'_>, options: &FrameOptions, band: u16) -> Rendered {
     let band = band.clamp(1, scene.height);
     let n = scene.width as usize * band as usize;
     let mut depth = vec![0u32; n];
     let mut color = vec![Rgb888::BLACK; n];
-    let mut buffer = InBand {
-        inner: ZBuffer::new(scene.width, band, &mut depth, &mut color).expect("z-buffer"),
-        rows: 0,
-    };
-    let first = frame::<Mask1x1, _>(scene, options, &mut buffer);
-    let second = frame::<Mask1x1, _>(scene, options, &mut buffer);
-    assert_eq!(
-        first, second,
-        "the same scene rendered twice differs (z-buffer)"
-    );
-    first
-}
-
-/// Forwards to a band buffer, checking that fragments land inside the band.
-struct InBand<B> {
-    inner: B,
-    rows: u16,
-}
-
-impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for InBand<B> {
-    fn width(&self) -> u16 {
-        self.inner.width()
-    }
-    fn band_height(&self) -> u16 {
-        self.inner.band_height()
-    }
-    fn begin_band(&mut self, y0: u16, rows: u16) {
-        self.rows = rows;
-        self.inner.begin_band(y0, rows)
-    }
-    fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<M>) -> bool {
-        assert!(x < self.inner.width() && row < self.rows);
-        self.inner.survives(x, row, fragment)
-    }
-    fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
-        assert!(x < self.inner.width() && row < self.rows);
-        self.inner.hides(x, row, depth)
-    }
-    fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
-        self.inner.count_triangle_test(pixels, hidden)
-    }
-    fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
-        assert!(
-            x < self.inner.width() && row < self.rows,
-            "fragment at ({x}, {row}) outside the band"
-        );
-        self.inner.insert(x, row, fragment)
-    }
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        self.inner.resolve_row(row, background, out)
-    }
-    fn end_band(&mut self) {
-        self.inner.end_band()
-    }
-    fn pool_use(&self) -> PoolUse {
-        self.inner.pool_use()
-    }
-    fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
-        self.inner.pixel_fragment_count(x, row)
-    }
-    fn stats(&self) -> BufferStats {
-        self.inner.stats()
-    }
-    fn take_stats(&mut self) -> BufferStats {
-        self.inner.take_stats()
-    }
-}
-
-/// A z-buffer per sample: the oracle an unlimited A-buffer must equal (SPEC section 3).
-struct PerSample<M: CoverageMask> {
-    width: u16,
-    band_height: u16,
-    rows: u16,
-    depth: Vec<Option<i32>>,
-    color: Vec<Rgb888>,
-    _grid: core::marker::PhantomData<M>,
-}
-
-impl<M: CoverageMask> PerSample<M> {
-    fn base(&self, x: u16, row: u16) -> usize {
-        (row as usize * self.width as usize + x as usize) * M::SAMPLES as usize
-    }
-}
-
-impl<M: CoverageMask> BandBuffer<M> for PerSample<M> {
-    fn width(&self) -> u16 {
-        self.width
-    }
-    fn band_height(&self) -> u16 {
-        self.band_height
-    }
-    fn begin_band(&mut self, _y0: u16, rows: u16) {
-        self.rows = rows;
-        self.depth.fill(None);
-    }
-    fn insert(&mut self, x: u16, row: u16, f: &Fragment<M>) {
-        let base = self.base(x, row);
-        for s in 0..M::SAMPLES {
-            if f.mask.get(s) {
-                let d = f.depth_at(s % M::COLS, s / M::COLS);
-                let slot = &mut self.depth[base + s as usize];
-                if slot.is_none_or(|old| d <= old) {
-                    *slot = Some(d);
-                    self.color[base + s as usize] = f.color;
-                }
-            }
-        }
-    }
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        for (x, px) in out.iter_mut().enumerate().take(self.width as usize) {
-            let base = self.base(x as u16, row);
-            let mut sum = [0u32; 3];
-            for s in 0..M::SAMPLES as usize {
-                let c = if self.depth[base + s].is_some() {
-                    self.color[base + s]
-                } else {
-                    background
-                };
-                sum[0] += c.r() as u32;
-                sum[1] += c.g() as u32;
-                sum[2] += c.b() as u32;
-            }
-            let v = sum.map(|v| ((v + M::SAMPLES / 2) >> M::SAMPLES_LOG2) as u8);
-            *px = Rgb888::new(v[0], v[1], v[2]);
-        }
-    }
-    fn pixel_fragment_count(&self, _x: u16, _row: u16) -> u32 {
-        0
-    }
-    fn stats(&self) -> BufferStats {
-        BufferStats::default()
-    }
-    fn take_stats(&mut self) -> BufferStats {
-        BufferStats::default()
-    }
+    let inner = ZBuffer::new(scene.width, band, &mut depth, &mut color).expect("z-buffer");
+    twice::<Mask1x1, _>(scene, options, &mut Checked::new(inner), " (z-buffer)")
 }
 
 /// Band height of the oracle comparison (keeps the unlimited pool small).
@@ -942,27 +533,17 @@ fn oracle<M: CoverageMask>(scene: &Scene<'_>, options: &FrameOptions) {
         unlimited.stats.buffer.merges, 0,
         "an unlimited buffer merged"
     );
-    let n = scene.width as usize * band as usize * M::SAMPLES as usize;
-    let mut reference = PerSample::<M> {
-        width: scene.width,
-        band_height: band,
-        rows: 0,
-        depth: vec![None; n],
-        color: vec![Rgb888::BLACK; n],
-        _grid: core::marker::PhantomData,
-    };
-    let expected = frame(scene, options, &mut reference);
-    assert!(reference.rows >= 1);
-    if let Some(i) = (0..unlimited.rgb.len() / 3)
-        .find(|&i| unlimited.rgb[3 * i..3 * i + 3] != expected.rgb[3 * i..3 * i + 3])
-    {
-        let w = scene.width as usize;
+    let mut reference = PerSampleZBuffer::<M>::new(scene.width, band);
+    let expected = frame(
+        scene,
+        options,
+        &mut OwnedWorkspace::for_scene(scene),
+        &mut reference,
+    );
+    assert!(reference.rows() >= 1);
+    if let Some((x, y, a, b)) = first_difference(scene.width, &unlimited.rgb, &expected.rgb) {
         panic!(
-            "unlimited A-buffer differs from the per-sample z-buffer at pixel ({}, {}): {:?} vs {:?}",
-            i % w,
-            i / w,
-            &unlimited.rgb[3 * i..3 * i + 3],
-            &expected.rgb[3 * i..3 * i + 3]
+            "unlimited A-buffer differs from the per-sample z-buffer at pixel ({x}, {y}): {a:?} vs {b:?}"
         );
     }
 }

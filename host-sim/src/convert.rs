@@ -5,45 +5,18 @@
 //! same scene loaded here are the same bits.
 
 use crate::scene_desc::{SceneDesc, ShadingDesc};
+use abuffer_test_support::{OwnedObject, OwnedScene};
 use embedded_graphics_core::pixelcolor::Rgb888;
 use fixed::types::{I16F16, I2F14};
-use mcu_abuffer::scene::{Camera, Light, Mesh, Normal, Scene, SceneObject, Shading, Transform};
+use mcu_abuffer::scene::{Camera, Light, Shading, Transform};
 
 pub use abuffer_scenes::fixed_bits::MAX_MODEL_COORDINATE;
 use abuffer_scenes::fixed_bits::{check_convertible, coord_bits, normal_bits};
 
-/// A mesh in fixed point, owned.
-#[derive(Clone, Debug, Default)]
-pub struct FixedMesh {
-    /// Positions, Q16.16.
-    pub positions: Vec<[I16F16; 3]>,
-    /// Unit normals, Q2.14.
-    pub normals: Vec<Normal>,
-    /// Index triples.
-    pub triangles: Vec<[u32; 3]>,
-}
-
-/// A scene in fixed point that owns its meshes; [`FixedScene::objects`] and
-/// [`FixedScene::scene`] lend it to the renderer.
-#[derive(Clone, Debug)]
-pub struct FixedScene {
-    /// Image width.
-    pub width: u16,
-    /// Image height.
-    pub height: u16,
-    /// Background color.
-    pub background: Rgb888,
-    /// Camera.
-    pub camera: Camera,
-    /// Light.
-    pub light: Option<Light>,
-    /// Meshes, one per object.
-    pub meshes: Vec<FixedMesh>,
-    /// Per object: color, transform, culling, shading.
-    pub placements: Vec<(Rgb888, Transform, bool, Shading)>,
-    /// Mesh names, for messages.
-    pub mesh_names: Vec<String>,
-}
+/// A scene in fixed point that owns its meshes (the shared owned scene;
+/// [`to_fixed`] leaves its turntable angle at zero: the renderer takes the
+/// frame's angle apart).
+pub type FixedScene = OwnedScene;
 
 fn fix(v: f32) -> I16F16 {
     I16F16::from_bits(coord_bits(v))
@@ -55,22 +28,10 @@ fn fix3(v: [f32; 3]) -> [I16F16; 3] {
 
 /// Converts a scene description. Errors name the object and the problem.
 pub fn to_fixed(desc: &SceneDesc) -> Result<FixedScene, String> {
-    let mut meshes = Vec::new();
-    let mut placements = Vec::new();
-    let mut mesh_names = Vec::new();
     check_convertible(desc)?;
+    let mut objects = Vec::new();
     for o in &desc.objects {
         let m = &o.mesh;
-        let normals = m
-            .normals
-            .iter()
-            .map(|n| normal_bits(*n).map(I2F14::from_bits))
-            .collect();
-        meshes.push(FixedMesh {
-            positions: m.positions.iter().map(|p| fix3(*p)).collect(),
-            normals,
-            triangles: m.triangles.clone(),
-        });
         let shading = match (o.shading, desc.light.is_some()) {
             (Some(ShadingDesc::Unlit), _) | (None, false) => Shading::Unlit,
             (Some(ShadingDesc::Flat), _) => Shading::Flat,
@@ -78,18 +39,23 @@ pub fn to_fixed(desc: &SceneDesc) -> Result<FixedScene, String> {
             (Some(ShadingDesc::Quadratic), _) | (None, true) => Shading::Quadratic,
             (Some(ShadingDesc::Phong), _) => Shading::Phong,
         };
-        let transform = Transform {
-            position: fix3(o.position),
-            rotation_deg: fix3(o.rotation_deg),
-            scale: fix(o.scale),
-        };
-        placements.push((
-            Rgb888::new(o.color[0], o.color[1], o.color[2]),
-            transform,
-            o.cull_backfaces,
+        objects.push(OwnedObject {
+            positions: m.positions.iter().map(|p| fix3(*p)).collect(),
+            normals: m
+                .normals
+                .iter()
+                .map(|n| normal_bits(*n).map(I2F14::from_bits))
+                .collect(),
+            triangles: m.triangles.clone(),
+            color: Rgb888::new(o.color[0], o.color[1], o.color[2]),
+            transform: Transform {
+                position: fix3(o.position),
+                rotation_deg: fix3(o.rotation_deg),
+                scale: fix(o.scale),
+            },
+            cull: o.cull_backfaces,
             shading,
-        ));
-        mesh_names.push(o.mesh_name.clone());
+        });
     }
     let c = &desc.camera;
     let camera = Camera {
@@ -116,48 +82,7 @@ pub fn to_fixed(desc: &SceneDesc) -> Result<FixedScene, String> {
         background: Rgb888::new(bg[0], bg[1], bg[2]),
         camera,
         light,
-        meshes,
-        placements,
-        mesh_names,
+        objects,
+        turntable_deg: I16F16::ZERO,
     })
-}
-
-impl FixedScene {
-    /// The objects, borrowing the meshes.
-    pub fn objects(&self) -> Vec<SceneObject<'_>> {
-        self.meshes
-            .iter()
-            .zip(&self.placements)
-            .map(
-                |(m, &(color, transform, cull_backfaces, shading))| SceneObject {
-                    mesh: Mesh {
-                        positions: &m.positions,
-                        normals: &m.normals,
-                        triangles: &m.triangles,
-                    },
-                    color,
-                    transform,
-                    cull_backfaces,
-                    shading,
-                },
-            )
-            .collect()
-    }
-
-    /// The scene over `objects` (from [`FixedScene::objects`]).
-    pub fn scene<'a>(&self, objects: &'a [SceneObject<'a>]) -> Scene<'a> {
-        Scene {
-            width: self.width,
-            height: self.height,
-            background: self.background,
-            camera: self.camera,
-            light: self.light,
-            objects,
-        }
-    }
-
-    /// Triangles over all objects.
-    pub fn triangle_count(&self) -> usize {
-        self.meshes.iter().map(|m| m.triangles.len()).sum()
-    }
 }

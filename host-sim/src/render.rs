@@ -1,18 +1,17 @@
 //! Running the library renderer on the desktop with vectors for its buffers.
 
 use crate::convert::FixedScene;
+use abuffer_test_support::{render_rgb, FragmentStorage, OwnedWorkspace};
 use embedded_graphics_core::pixelcolor::Rgb888;
 use mcu_abuffer::band_buffer::{draw_in_band, BandBuffer, DrawParams, PoolUse};
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::Coord;
-use mcu_abuffer::fragment::{Fragment, PackedFragment};
-use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
+use mcu_abuffer::fragment::Fragment;
+use mcu_abuffer::fragment_buffer::{BufferConfig, OverflowPolicy};
 use mcu_abuffer::pool::PoolAddress;
-use mcu_abuffer::renderer::{
-    render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
-};
+use mcu_abuffer::renderer::FrameOptions;
+use mcu_abuffer::scene::Scene;
 use mcu_abuffer::setup::{Rejection, SetupVertex};
-use mcu_abuffer::sink::ImageSink;
 use mcu_abuffer::stats::{BufferStats, FrameStats};
 use mcu_abuffer::zbuffer::ZBuffer;
 use mcu_abuffer::zbuffer_hiz::{tile_count, HierarchicalZBuffer, HizTile};
@@ -190,16 +189,16 @@ pub struct RenderOutput {
 }
 
 /// Forwards to a band buffer and counts fragments per pixel over the whole image.
-struct CountingBuffer<'m, B> {
+struct CountingBuffer<B> {
     inner: B,
     y0: u16,
-    generated: &'m mut [u16],
+    generated: Vec<u16>,
     /// Hand whole triangles to the inner buffer (which decides about them
     /// before rasterizing; its fragments are then not counted).
     forward_triangles: bool,
 }
 
-impl<B> CountingBuffer<'_, B> {
+impl<B> CountingBuffer<B> {
     /// Counts one generated fragment at `(x, row)` of the current band.
     fn count<M: CoverageMask>(&mut self, x: u16, row: u16)
     where
@@ -210,7 +209,7 @@ impl<B> CountingBuffer<'_, B> {
     }
 }
 
-impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> {
+impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<B> {
     fn width(&self) -> u16 {
         self.inner.width()
     }
@@ -272,54 +271,28 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<'_, B> 
     }
 }
 
-/// Owned storage of a frame workspace, sized for one scene.
-pub struct Workspace {
-    objects: Vec<ObjectFrame>,
-    vertices: Vec<ScreenVertex>,
-    rows: Vec<u16>,
-    order: Vec<u32>,
-    row_starts: Vec<u32>,
-    line: Vec<Rgb888>,
-}
-
-impl Workspace {
-    /// Storage for `s`: one entry per object, vertex, triangle, row and column.
-    pub fn for_scene(s: &FixedScene) -> Self {
-        let nv: usize = s.meshes.iter().map(|m| m.positions.len()).sum();
-        let nt = s.triangle_count();
-        let empty_object = ObjectFrame::EMPTY;
-        Self {
-            objects: vec![empty_object; s.meshes.len()],
-            vertices: vec![ScreenVertex::default(); nv],
-            rows: vec![0; nt],
-            order: vec![0; nt],
-            row_starts: vec![0; s.height as usize + 1],
-            line: vec![Rgb888::new(0, 0, 0); s.width as usize],
-        }
-    }
-
-    /// The workspace the renderer takes.
-    pub fn borrow(&mut self) -> FrameWorkspace<'_> {
-        FrameWorkspace {
-            objects: &mut self.objects,
-            vertices: &mut self.vertices,
-            triangle_rows: &mut self.rows,
-            triangle_order: &mut self.order,
-            row_starts: &mut self.row_starts,
-            line: &mut self.line,
-        }
-    }
-}
-
 /// Renders `scene` with `config`, turned by `turntable_deg` about the world Y axis.
 pub fn render(
     scene: &FixedScene,
     config: &RenderConfig,
     turntable_deg: f32,
 ) -> Result<RenderOutput, String> {
+    let mut frames = render_frames(scene, config, &[turntable_deg])?;
+    Ok(frames.remove(0))
+}
+
+/// Renders `scene` with `config` once for each angle of `turntable_degs`, frame
+/// after frame through the same band buffer and frame workspace, as a device
+/// does: what one frame leaves in them is what the next one finds. The first
+/// frame's time includes the buffers' setup.
+pub fn render_frames(
+    scene: &FixedScene,
+    config: &RenderConfig,
+    turntable_degs: &[f32],
+) -> Result<Vec<RenderOutput>, String> {
     // Refused here, before any buffer is sized from the scene: NaN has no
     // fixed-point angle, and a zero-sized image has no band.
-    if turntable_deg.is_nan() {
+    if turntable_degs.iter().any(|a| a.is_nan()) {
         return Err("the turntable angle is not a number".into());
     }
     scene
@@ -327,192 +300,181 @@ pub fn render(
         .validate()
         .map_err(|e| format!("invalid scene: {e}"))?;
     if config.method == Method::Ssaa {
-        return crate::ssaa::render_ssaa(scene, config.ssaa, turntable_deg);
+        return turntable_degs
+            .iter()
+            .map(|&a| crate::ssaa::render_ssaa(scene, config.ssaa, a))
+            .collect();
     }
     let start = Instant::now();
     let (w, h) = (scene.width, scene.height);
     let band = config.band.clamp(1, h);
     let objects = scene.objects();
     let lib_scene = scene.scene(&objects);
-    let options = FrameOptions {
-        turntable_deg: Coord::saturating_from_num(turntable_deg),
+    let mut frames = Frames {
+        scene: &lib_scene,
+        turntable_degs,
+        workspace: OwnedWorkspace::for_scene(&lib_scene),
+        forward_triangles: matches!(config.method, Method::ZbufferHiz | Method::ZbufferMidpoint),
+        pool_slots: 0,
+        start,
     };
-    let mut ws = Workspace::for_scene(scene);
-    let mut rgb = vec![0u8; w as usize * h as usize * 3];
-    let mut generated = vec![0u16; w as usize * h as usize];
-    let mut stored = vec![0u8; w as usize * h as usize];
-    let mut pool_slots = 0;
-    let stats = {
-        let mut sink = ImageSink::new(w, &mut rgb);
-        let mut frame_ws = ws.borrow();
-        let counts = &mut stored;
-        macro_rules! run {
-            ($buffer:expr, $mask:ty) => {{
-                let mut counting = CountingBuffer {
-                    inner: $buffer,
-                    y0: 0,
-                    generated: &mut generated,
-                    forward_triangles: matches!(
-                        config.method,
-                        Method::ZbufferHiz | Method::ZbufferMidpoint
-                    ),
-                };
-                render_frame::<$mask, _, _, _>(
-                    &lib_scene,
-                    &options,
-                    &mut frame_ws,
-                    &mut counting,
-                    &mut sink,
-                    |y0, rows, b| {
-                        for row in 0..rows {
-                            for x in 0..w {
-                                let n = b.pixel_fragment_count(x, row).min(255) as u8;
-                                counts[(y0 + row) as usize * w as usize + x as usize] = n;
-                            }
-                        }
-                    },
-                )
-                .map_err(|e| e.to_string())?
-            }};
+    if matches!(
+        config.method,
+        Method::Zbuffer | Method::ZbufferHiz | Method::ZbufferMidpoint
+    ) {
+        let mut depth = vec![0u32; w as usize * band as usize];
+        let mut color = vec![Rgb888::new(0, 0, 0); w as usize * band as usize];
+        return match config.method {
+            Method::ZbufferHiz => {
+                let mut tiles = vec![HizTile::EMPTY; tile_count(w, band)];
+                let zb = HierarchicalZBuffer::new(w, band, &mut depth, &mut color, &mut tiles)
+                    .ok_or("z-buffer storage")?;
+                frames.run::<Mask1x1, _>(zb)
+            }
+            Method::ZbufferMidpoint => {
+                let midpoint = config.midpoint.config()?;
+                let zb = MidpointZBuffer::new(w, band, &mut depth, &mut color, midpoint)
+                    .ok_or("z-buffer storage")?;
+                frames.run::<Mask1x1, _>(zb)
+            }
+            _ => {
+                let zb = ZBuffer::new(w, band, &mut depth, &mut color).ok_or("z-buffer storage")?;
+                frames.run::<Mask1x1, _>(zb)
+            }
+        };
+    }
+    let samples = config.grid.samples();
+    let (policy, main, extra, pool) = match config.method {
+        Method::Unlimited => {
+            let extra = samples - 1;
+            (
+                OverflowPolicy::MergeFarthest,
+                1u8,
+                extra as u8,
+                w as usize * band as usize * extra,
+            )
         }
-        if matches!(
-            config.method,
-            Method::Zbuffer | Method::ZbufferHiz | Method::ZbufferMidpoint
-        ) {
-            let mut depth = vec![0u32; w as usize * band as usize];
-            let mut color = vec![Rgb888::new(0, 0, 0); w as usize * band as usize];
-            match config.method {
-                Method::ZbufferHiz => {
-                    let mut tiles = vec![HizTile::EMPTY; tile_count(w, band)];
-                    let zb = HierarchicalZBuffer::new(w, band, &mut depth, &mut color, &mut tiles)
-                        .ok_or("z-buffer storage")?;
-                    run!(zb, Mask1x1)
-                }
-                Method::ZbufferMidpoint => {
-                    let midpoint = config.midpoint.config()?;
-                    let zb = MidpointZBuffer::new(w, band, &mut depth, &mut color, midpoint)
-                        .ok_or("z-buffer storage")?;
-                    run!(zb, Mask1x1)
-                }
-                _ => {
-                    let zb =
-                        ZBuffer::new(w, band, &mut depth, &mut color).ok_or("z-buffer storage")?;
-                    run!(zb, Mask1x1)
-                }
-            }
-        } else {
-            let samples = config.grid.samples();
-            let (policy, main, extra, pool) = match config.method {
-                Method::Unlimited => {
-                    let extra = samples - 1;
-                    (
-                        OverflowPolicy::MergeFarthest,
-                        1u8,
-                        extra as u8,
-                        w as usize * band as usize * extra,
-                    )
-                }
-                Method::Shared => (
-                    OverflowPolicy::MergeFarthest,
-                    config.main,
-                    config.extra,
-                    config.pool.unwrap_or(default_pool(w, band)),
-                ),
-                Method::MergeClosest => (
-                    OverflowPolicy::MergeClosest,
-                    config.main,
-                    config.extra,
-                    config.pool.unwrap_or(default_pool(w, band)),
-                ),
-                Method::SplitBands => (
-                    OverflowPolicy::SplitBands,
-                    config.main,
-                    config.extra,
-                    config.pool.unwrap_or(default_pool(w, band)),
-                ),
-                Method::FixedDiscard => (OverflowPolicy::Discard, config.fixed, 0, 0),
-                Method::FixedMerge => (OverflowPolicy::MergeFarthest, config.fixed, 0, 0),
-                Method::Zbuffer | Method::ZbufferHiz | Method::ZbufferMidpoint | Method::Ssaa => {
-                    unreachable!()
-                }
-            };
-            pool_slots = pool;
-            let cfg = BufferConfig {
-                width: w,
-                band_height: band,
-                main_slots: main,
-                extra_addresses: extra,
-                policy,
-            };
-            match config.grid {
-                Grid::G4x4 => {
-                    let mut storage = abuffer::<Mask4x4, u32>(cfg, pool)?;
-                    run!(storage.as_buffer()?, Mask4x4)
-                }
-                Grid::G8x4 => {
-                    let mut storage = abuffer::<Mask8x4, u32>(cfg, pool)?;
-                    run!(storage.as_buffer()?, Mask8x4)
-                }
-                Grid::G8x8 => {
-                    let mut storage = abuffer::<Mask8x8, u32>(cfg, pool)?;
-                    run!(storage.as_buffer()?, Mask8x8)
-                }
-            }
+        Method::Shared => (
+            OverflowPolicy::MergeFarthest,
+            config.main,
+            config.extra,
+            config.pool.unwrap_or(default_pool(w, band)),
+        ),
+        Method::MergeClosest => (
+            OverflowPolicy::MergeClosest,
+            config.main,
+            config.extra,
+            config.pool.unwrap_or(default_pool(w, band)),
+        ),
+        Method::SplitBands => (
+            OverflowPolicy::SplitBands,
+            config.main,
+            config.extra,
+            config.pool.unwrap_or(default_pool(w, band)),
+        ),
+        Method::FixedDiscard => (OverflowPolicy::Discard, config.fixed, 0, 0),
+        Method::FixedMerge => (OverflowPolicy::MergeFarthest, config.fixed, 0, 0),
+        Method::Zbuffer | Method::ZbufferHiz | Method::ZbufferMidpoint | Method::Ssaa => {
+            unreachable!()
         }
     };
-    Ok(RenderOutput {
+    frames.pool_slots = pool;
+    let cfg = BufferConfig {
         width: w,
-        height: h,
-        rgb,
-        stats,
-        generated_per_pixel: generated,
-        stored_per_pixel: stored,
-        pool_slots,
-        elapsed: start.elapsed(),
-    })
+        band_height: band,
+        main_slots: main,
+        extra_addresses: extra,
+        policy,
+    };
+    match config.grid {
+        Grid::G4x4 => {
+            let mut storage = abuffer::<Mask4x4, u32>(cfg, pool)?;
+            frames.run(storage.try_buffer().map_err(|e| e.to_string())?)
+        }
+        Grid::G8x4 => {
+            let mut storage = abuffer::<Mask8x4, u32>(cfg, pool)?;
+            frames.run(storage.try_buffer().map_err(|e| e.to_string())?)
+        }
+        Grid::G8x8 => {
+            let mut storage = abuffer::<Mask8x8, u32>(cfg, pool)?;
+            frames.run(storage.try_buffer().map_err(|e| e.to_string())?)
+        }
+    }
 }
 
-/// Owned storage of a fragment buffer.
-pub struct AbufferStorage<M: CoverageMask, A: PoolAddress> {
-    config: BufferConfig,
-    counts: Vec<u8>,
-    main: Vec<PackedFragment<M>>,
-    addresses: Vec<A>,
-    pool: Vec<PackedFragment<M>>,
+/// The frames [`render_frames`] draws, and what they share besides the band buffer.
+struct Frames<'s> {
+    scene: &'s Scene<'s>,
+    turntable_degs: &'s [f32],
+    workspace: OwnedWorkspace,
+    forward_triangles: bool,
+    pool_slots: usize,
+    start: Instant,
 }
 
-/// Allocates storage for a fragment buffer of `config` with `pool` slots.
+impl Frames<'_> {
+    /// Renders every frame through `buffer`, counting fragments per pixel.
+    fn run<M: CoverageMask, B: BandBuffer<M>>(
+        mut self,
+        buffer: B,
+    ) -> Result<Vec<RenderOutput>, String> {
+        let (w, h) = (self.scene.width, self.scene.height);
+        let pixels = w as usize * h as usize;
+        let mut counting = CountingBuffer {
+            inner: buffer,
+            y0: 0,
+            generated: Vec::new(),
+            forward_triangles: self.forward_triangles,
+        };
+        let mut outputs = Vec::with_capacity(self.turntable_degs.len());
+        for &angle in self.turntable_degs {
+            let options = FrameOptions {
+                turntable_deg: Coord::saturating_from_num(angle),
+            };
+            counting.generated = vec![0; pixels];
+            let mut stored = vec![0u8; pixels];
+            let frame = render_rgb(
+                self.scene,
+                &options,
+                &mut self.workspace,
+                &mut counting,
+                |y0, rows, b| {
+                    for row in 0..rows {
+                        for x in 0..w {
+                            let n = b.pixel_fragment_count(x, row).min(255) as u8;
+                            stored[(y0 + row) as usize * w as usize + x as usize] = n;
+                        }
+                    }
+                },
+            )
+            .map_err(|e| e.to_string())?;
+            outputs.push(RenderOutput {
+                width: w,
+                height: h,
+                rgb: frame.rgb,
+                stats: frame.stats,
+                generated_per_pixel: std::mem::take(&mut counting.generated),
+                stored_per_pixel: stored,
+                pool_slots: self.pool_slots,
+                elapsed: self.start.elapsed(),
+            });
+            self.start = Instant::now();
+        }
+        Ok(outputs)
+    }
+}
+
+/// Storage for a fragment buffer of `config` with `pool` slots, or why the
+/// pool is larger than an address of type `A` reaches (before allocating it).
 pub fn abuffer<M: CoverageMask, A: PoolAddress>(
     config: BufferConfig,
     pool: usize,
-) -> Result<AbufferStorage<M, A>, String> {
+) -> Result<FragmentStorage<M, A>, String> {
     if pool > A::MAX_POOL {
         return Err(format!(
             "pool of {pool} slots exceeds the {} an address can reach",
             A::MAX_POOL
         ));
     }
-    Ok(AbufferStorage {
-        config,
-        counts: vec![0; config.pixels()],
-        main: vec![PackedFragment::default(); config.main_slot_count()],
-        addresses: vec![A::default(); config.address_count()],
-        pool: vec![PackedFragment::default(); pool],
-    })
-}
-
-impl<M: CoverageMask, A: PoolAddress> AbufferStorage<M, A> {
-    /// The fragment buffer over this storage.
-    pub fn as_buffer(&mut self) -> Result<FragmentBuffer<'_, M, A>, String> {
-        FragmentBuffer::new(
-            self.config,
-            BufferStorage {
-                counts: &mut self.counts,
-                main: &mut self.main,
-                addresses: &mut self.addresses,
-                pool: &mut self.pool,
-            },
-        )
-        .map_err(|e| e.to_string())
-    }
+    Ok(FragmentStorage::new(config, pool))
 }

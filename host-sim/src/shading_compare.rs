@@ -133,8 +133,8 @@ pub struct ShadingComparison {
 /// `scene` with every object shaded `mode`.
 pub fn with_shading(scene: &FixedScene, mode: ShadingMode) -> FixedScene {
     let mut s = scene.clone();
-    for p in &mut s.placements {
-        p.3 = mode.shading();
+    for o in &mut s.objects {
+        o.shading = mode.shading();
     }
     s
 }

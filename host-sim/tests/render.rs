@@ -2,7 +2,7 @@
 
 use host_sim::builtins::{builtin_mesh, builtin_scene};
 use host_sim::convert::to_fixed;
-use host_sim::render::{render, Grid, Method, RenderConfig};
+use host_sim::render::{render, render_frames, Grid, Method, RenderConfig};
 use host_sim::scene_desc::{CameraDesc, MeshData, ObjectDesc, SceneDesc};
 
 fn camera() -> CameraDesc {
@@ -205,6 +205,7 @@ fn the_same_input_gives_the_same_image_twice() {
     let fixed = to_fixed(&builtin_scene("teapot", 80, 80).unwrap()).unwrap();
     for method in [
         Method::Shared,
+        Method::SplitBands,
         Method::FixedDiscard,
         Method::MergeClosest,
         Method::Zbuffer,
@@ -213,9 +214,13 @@ fn the_same_input_gives_the_same_image_twice() {
             method,
             ..Default::default()
         };
-        let a = render(&fixed, &cfg, 33.0).unwrap();
-        let b = render(&fixed, &cfg, 33.0).unwrap();
+        // Both frames through the same band buffer and frame workspace: what
+        // the first leaves there must not change the second.
+        let frames = render_frames(&fixed, &cfg, &[33.0, 33.0]).unwrap();
+        let (a, b) = (&frames[0], &frames[1]);
         assert!(a.rgb == b.rgb && a.stats == b.stats, "{method:?}");
+        assert!(a.stored_per_pixel == b.stored_per_pixel, "{method:?}");
+        assert!(a.generated_per_pixel == b.generated_per_pixel, "{method:?}");
     }
 }
 

@@ -4,7 +4,9 @@
 
 use host_sim::builtins::{builtin_mesh, builtin_scene, BUILTIN_SCENES};
 use host_sim::convert::{to_fixed, FixedScene};
-use host_sim::render::{render, Method, MidpointSettings, RenderConfig, RenderOutput};
+use host_sim::render::{
+    render, render_frames, Method, MidpointSettings, RenderConfig, RenderOutput,
+};
 use host_sim::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc, ShadingDesc};
 use host_sim::zbuffer_table::{differing_pixels, markdown_table, measure_table};
 
@@ -227,8 +229,14 @@ fn counters_are_deterministic() {
     let scene = to_fixed(&builtin_scene("overdraw:40:3", 160, 120).unwrap()).unwrap();
     for method in [Method::Zbuffer, Method::ZbufferHiz, Method::ZbufferMidpoint] {
         for band in [120, 16] {
-            let a = run(&scene, method, band, MidpointSettings::default());
-            let b = run(&scene, method, band, MidpointSettings::default());
+            // Both frames through the same band buffer and frame workspace.
+            let config = RenderConfig {
+                method,
+                band,
+                ..RenderConfig::default()
+            };
+            let frames = render_frames(&scene, &config, &[0.0, 0.0]).expect("renders");
+            let (a, b) = (&frames[0], &frames[1]);
             assert_eq!(a.stats, b.stats, "{method:?}, band {band}");
             assert!(a.rgb == b.rgb);
         }

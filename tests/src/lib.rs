@@ -1,22 +1,21 @@
-//! Shared helpers for the system tests of `mcu_abuffer`: a seeded PRNG, owned
-//! fragment-buffer storage, a `render_frame` wrapper that returns the RGB888 image,
-//! random scene generators, and the capture of each triangle's fragment stream.
-//! Colors are kept as `[u8; 3]` in the tests and converted at the library boundary.
+//! Shared helpers for the system tests of `mcu_abuffer`: a seeded PRNG, a
+//! `render` wrapper that returns the RGB888 image, random scene generators, the
+//! capture of each triangle's fragment stream, and the prerequisites of the
+//! firmware tests. Owned scenes, workspaces, buffer storage, the per-sample
+//! oracle and the invariant checks are `abuffer_test_support`'s. Colors are kept
+//! as `[u8; 3]` in the tests and converted at the library boundary.
 
+use abuffer_test_support::{render_rgb, FragmentStorage, OwnedObject, OwnedScene, OwnedWorkspace};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::clip::{clip_triangle, ClipVertex};
 use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::fixed_point::Coord;
-use mcu_abuffer::fragment::{Fragment, PackedFragment};
-use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
+use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::geometry::{outcode, project, ObjectTransform, ViewBasis};
-use mcu_abuffer::renderer::{
-    render_frame, FrameOptions, FrameWorkspace, ObjectFrame, ScreenVertex,
-};
-use mcu_abuffer::scene::{Camera, Light, Mesh, Normal, Scene, SceneObject, Shading, Transform};
+use mcu_abuffer::renderer::FrameOptions;
+use mcu_abuffer::scene::{Camera, Light, Normal, Scene, Shading, Transform};
 use mcu_abuffer::setup::{is_backfacing, signed_area2, SetupVertex};
-use mcu_abuffer::sink::ImageSink;
 use mcu_abuffer::stats::FrameStats;
 
 /// The fixed-point type of normal components (Q2.14), reached through the library's alias.
@@ -121,73 +120,11 @@ pub fn sample_col_row<M: CoverageMask>(s: u32) -> (u32, u32) {
 }
 
 // ---------------------------------------------------------------------------------
-// Fragment buffers
+// Rendering
 // ---------------------------------------------------------------------------------
 
-/// Owned memory of a fragment buffer with `u32` pool addresses.
-pub struct AStorage<M: CoverageMask> {
-    config: BufferConfig,
-    counts: Vec<u8>,
-    main: Vec<PackedFragment<M>>,
-    addresses: Vec<u32>,
-    pool: Vec<PackedFragment<M>>,
-}
-
-impl<M: CoverageMask> AStorage<M> {
-    /// Storage for `config` with a pool of `pool` slots.
-    pub fn new(config: BufferConfig, pool: usize) -> Self {
-        Self {
-            config,
-            counts: vec![0; config.pixels()],
-            main: vec![PackedFragment::default(); config.main_slot_count()],
-            addresses: vec![0; config.address_count()],
-            pool: vec![PackedFragment::default(); pool],
-        }
-    }
-
-    /// The "unlimited" configuration of SPEC section 3: one main slot, `SAMPLES - 1`
-    /// pool addresses per pixel and a pool big enough for every pixel to use them all.
-    pub fn unlimited(width: u16, band_height: u16) -> Self {
-        let extra = M::SAMPLES - 1;
-        let config = BufferConfig {
-            width,
-            band_height,
-            main_slots: 1,
-            extra_addresses: extra as u8,
-            policy: OverflowPolicy::MergeFarthest,
-        };
-        Self::new(
-            config,
-            width as usize * band_height as usize * extra as usize,
-        )
-    }
-
-    /// The configuration.
-    pub fn config(&self) -> BufferConfig {
-        self.config
-    }
-
-    /// Pool slots.
-    pub fn pool_len(&self) -> usize {
-        self.pool.len()
-    }
-
-    /// A fresh fragment buffer over this storage.
-    pub fn buffer(&mut self) -> FragmentBuffer<'_, M, u32> {
-        FragmentBuffer::new(
-            self.config,
-            BufferStorage {
-                counts: &mut self.counts,
-                main: &mut self.main,
-                addresses: &mut self.addresses,
-                pool: &mut self.pool,
-            },
-        )
-        .expect("fragment buffer storage")
-    }
-}
-
-/// Renders `scene` through `buffer`, returning the RGB888 image and the statistics.
+/// Renders `scene` through `buffer` in a workspace of its own, returning the
+/// RGB888 image and the statistics; panics when `render_frame` fails.
 pub fn render<M, B, F>(
     scene: &Scene<'_>,
     options: &FrameOptions,
@@ -199,75 +136,17 @@ where
     B: BandBuffer<M>,
     F: FnMut(u16, u16, &B),
 {
-    let (w, h) = (scene.width as usize, scene.height as usize);
-    let empty_object = ObjectFrame::EMPTY;
-    let mut objects = vec![empty_object; scene.objects.len()];
-    let mut vertices = vec![ScreenVertex::default(); scene.vertex_count()];
-    let mut rows = vec![0u16; scene.triangle_count()];
-    let mut order = vec![0u32; scene.triangle_count()];
-    let mut row_starts = vec![0u32; h + 1];
-    let mut line = vec![Rgb888::BLACK; w];
-    let mut image = vec![0u8; w * h * 3];
-    let stats = {
-        let mut ws = FrameWorkspace {
-            objects: &mut objects,
-            vertices: &mut vertices,
-            triangle_rows: &mut rows,
-            triangle_order: &mut order,
-            row_starts: &mut row_starts,
-            line: &mut line,
-        };
-        let mut sink = ImageSink::new(scene.width, &mut image);
-        render_frame(scene, options, &mut ws, buffer, &mut sink, on_band)
-            .unwrap_or_else(|e| panic!("render_frame failed: {e}"))
-    };
-    (image, stats)
+    let mut workspace = OwnedWorkspace::for_scene(scene);
+    let out = render_rgb(scene, options, &mut workspace, buffer, on_band)
+        .unwrap_or_else(|e| panic!("render_frame failed: {e}"));
+    (out.rgb, out.stats)
 }
 
 // ---------------------------------------------------------------------------------
 // Random scenes
 // ---------------------------------------------------------------------------------
 
-/// One object of a generated scene, with owned mesh data.
-#[derive(Clone, Debug)]
-pub struct OwnedObject {
-    /// Positions.
-    pub positions: Vec<[Coord; 3]>,
-    /// Normals, one per position.
-    pub normals: Vec<Normal>,
-    /// Triangles.
-    pub triangles: Vec<[u32; 3]>,
-    /// Base color.
-    pub color: [u8; 3],
-    /// Placement.
-    pub transform: Transform,
-    /// Back-face culling.
-    pub cull: bool,
-    /// Shading.
-    pub shading: Shading,
-}
-
-/// A generated scene with owned data; [`OwnedScene::objects`] and
-/// [`OwnedScene::scene`] lend it to the renderer.
-#[derive(Clone, Debug)]
-pub struct OwnedScene {
-    /// Image width.
-    pub width: u16,
-    /// Image height.
-    pub height: u16,
-    /// Background color.
-    pub background: [u8; 3],
-    /// Camera.
-    pub camera: Camera,
-    /// Light.
-    pub light: Option<Light>,
-    /// Objects in drawing order.
-    pub objects: Vec<OwnedObject>,
-    /// Turntable angle of the frame.
-    pub turntable_deg: Coord,
-}
-
-/// What [`OwnedScene::random`] generates.
+/// What [`random_scene`] and [`deep_scene`] generate.
 #[derive(Clone, Copy, Debug)]
 pub struct SceneParams {
     /// Image width.
@@ -315,358 +194,301 @@ fn half_extent(p: &SceneParams) -> (f64, f64) {
     (half_h * p.width as f64 / p.height as f64, half_h)
 }
 
-impl OwnedScene {
-    /// A random scene: triangles of random size at random depths around the origin,
-    /// many of them crossing a partner (interpenetrating), a few exact duplicates
-    /// (depth ties), split over up to four objects with mixed shading.
-    pub fn random(rng: &mut Rng, p: &SceneParams) -> Self {
-        let (half_w, half_h) = half_extent(p);
-        let n = rng.range(p.min_triangles as i64, p.max_triangles as i64) as usize;
-        let mut tris: Vec<[[f64; 3]; 3]> = Vec::with_capacity(n);
-        while tris.len() < n {
-            if let Some(prev) = tris.last().copied() {
-                if rng.chance(0.05) {
-                    // Exact duplicate: equal depths at every sample.
-                    tris.push(prev);
-                    continue;
-                }
-                if rng.chance(0.45) {
-                    // A partner whose plane crosses the previous one.
-                    let zc = (prev[0][2] + prev[1][2] + prev[2][2]) / 3.0;
-                    let j = 0.3;
-                    let t = prev.map(|v| {
-                        [
-                            v[0] + rng.float(-j, j),
-                            v[1] + rng.float(-j, j),
-                            2.0 * zc - v[2] + rng.float(-0.2, 0.2),
-                        ]
-                    });
-                    tris.push(t);
-                    continue;
-                }
-                if rng.chance(0.03) {
-                    // Nearly edge-on: tiny on screen, steep in depth.
-                    let c = prev[0];
-                    let d = [rng.float(-1.0, 1.0), rng.float(-1.0, 1.0)];
-                    let t = [
-                        c,
-                        [c[0] + d[0], c[1] + d[1], c[2] + 2.0],
-                        [c[0] + 0.02 * d[1], c[1] - 0.02 * d[0], c[2] - 2.0],
-                    ];
-                    tris.push(t);
-                    continue;
-                }
+/// A random scene: triangles of random size at random depths around the origin,
+/// many of them crossing a partner (interpenetrating), a few exact duplicates
+/// (depth ties), split over up to four objects with mixed shading.
+pub fn random_scene(rng: &mut Rng, p: &SceneParams) -> OwnedScene {
+    let (half_w, half_h) = half_extent(p);
+    let n = rng.range(p.min_triangles as i64, p.max_triangles as i64) as usize;
+    let mut tris: Vec<[[f64; 3]; 3]> = Vec::with_capacity(n);
+    while tris.len() < n {
+        if let Some(prev) = tris.last().copied() {
+            if rng.chance(0.05) {
+                // Exact duplicate: equal depths at every sample.
+                tris.push(prev);
+                continue;
             }
-            let c = [
+            if rng.chance(0.45) {
+                // A partner whose plane crosses the previous one.
+                let zc = (prev[0][2] + prev[1][2] + prev[2][2]) / 3.0;
+                let j = 0.3;
+                let t = prev.map(|v| {
+                    [
+                        v[0] + rng.float(-j, j),
+                        v[1] + rng.float(-j, j),
+                        2.0 * zc - v[2] + rng.float(-0.2, 0.2),
+                    ]
+                });
+                tris.push(t);
+                continue;
+            }
+            if rng.chance(0.03) {
+                // Nearly edge-on: tiny on screen, steep in depth.
+                let c = prev[0];
+                let d = [rng.float(-1.0, 1.0), rng.float(-1.0, 1.0)];
+                let t = [
+                    c,
+                    [c[0] + d[0], c[1] + d[1], c[2] + 2.0],
+                    [c[0] + 0.02 * d[1], c[1] - 0.02 * d[0], c[2] - 2.0],
+                ];
+                tris.push(t);
+                continue;
+            }
+        }
+        let c = [
+            rng.float(-half_w, half_w),
+            rng.float(-half_h, half_h),
+            rng.float(-3.0, 3.0),
+        ];
+        let s = rng.float(p.min_size, p.max_size);
+        let tilt = rng.float(0.0, 1.5);
+        let t = [0, 1, 2].map(|_| {
+            [
+                c[0] + rng.float(-s, s),
+                c[1] + rng.float(-s, s),
+                c[2] + tilt * rng.float(-s, s),
+            ]
+        });
+        tris.push(t);
+    }
+    assemble(rng, p, tris)
+}
+
+/// A scene whose pixels are deep: thin triangles fanning out from a few hubs at
+/// random depths, so the pixels near a hub hold many fragments, plus a few large
+/// tilted triangles behind and through them.
+pub fn deep_scene(rng: &mut Rng, p: &SceneParams) -> OwnedScene {
+    let (half_w, half_h) = half_extent(p);
+    let n = rng.range(p.min_triangles as i64, p.max_triangles as i64) as usize;
+    let hubs: Vec<[f64; 2]> = (0..rng.range(1, 3))
+        .map(|_| {
+            [
+                rng.float(-half_w, half_w) * 0.8,
+                rng.float(-half_h, half_h) * 0.8,
+            ]
+        })
+        .collect();
+    let mut tris: Vec<[[f64; 3]; 3]> = Vec::with_capacity(n);
+    for _ in 0..rng.range(1, 3) {
+        let z = rng.float(-3.0, 0.0);
+        tris.push([
+            [-half_w * 1.2, -half_h * 1.2, z + rng.float(-1.0, 1.0)],
+            [half_w * 1.2, -half_h * 1.2, z + rng.float(-1.0, 1.0)],
+            [
                 rng.float(-half_w, half_w),
-                rng.float(-half_h, half_h),
-                rng.float(-3.0, 3.0),
-            ];
-            let s = rng.float(p.min_size, p.max_size);
-            let tilt = rng.float(0.0, 1.5);
-            let t = [0, 1, 2].map(|_| {
-                [
-                    c[0] + rng.float(-s, s),
-                    c[1] + rng.float(-s, s),
-                    c[2] + tilt * rng.float(-s, s),
-                ]
-            });
-            tris.push(t);
-        }
-        Self::assemble(rng, p, tris)
+                half_h * 1.2,
+                z + rng.float(-1.0, 1.0),
+            ],
+        ]);
     }
-
-    /// A scene whose pixels are deep: thin triangles fanning out from a few hubs at
-    /// random depths, so the pixels near a hub hold many fragments, plus a few large
-    /// tilted triangles behind and through them.
-    pub fn deep(rng: &mut Rng, p: &SceneParams) -> Self {
-        let (half_w, half_h) = half_extent(p);
-        let n = rng.range(p.min_triangles as i64, p.max_triangles as i64) as usize;
-        let hubs: Vec<[f64; 2]> = (0..rng.range(1, 3))
-            .map(|_| {
-                [
-                    rng.float(-half_w, half_w) * 0.8,
-                    rng.float(-half_h, half_h) * 0.8,
-                ]
-            })
-            .collect();
-        let mut tris: Vec<[[f64; 3]; 3]> = Vec::with_capacity(n);
-        for _ in 0..rng.range(1, 3) {
-            let z = rng.float(-3.0, 0.0);
-            tris.push([
-                [-half_w * 1.2, -half_h * 1.2, z + rng.float(-1.0, 1.0)],
-                [half_w * 1.2, -half_h * 1.2, z + rng.float(-1.0, 1.0)],
-                [
-                    rng.float(-half_w, half_w),
-                    half_h * 1.2,
-                    z + rng.float(-1.0, 1.0),
-                ],
-            ]);
-        }
-        while tris.len() < n {
-            let h = hubs[rng.below(hubs.len() as u64) as usize];
-            let a = rng.float(0.0, std::f64::consts::TAU);
-            let len = rng.float(p.min_size, p.max_size) * 2.0;
-            let width = rng.float(0.01, 0.06);
-            let hub = [h[0] + rng.float(-0.02, 0.02), h[1] + rng.float(-0.02, 0.02)];
-            let (dx, dy) = (a.cos(), a.sin());
-            let side = [-dy * width, dx * width];
-            let z = rng.float(-3.0, 3.0);
-            let tilt = rng.float(-1.0, 1.0);
-            // A long thin triangle crossing the hub, half as wide there as at its base.
-            let tip = [hub[0] - len * dx, hub[1] - len * dy];
-            let base = [hub[0] + len * dx, hub[1] + len * dy];
-            let zb = z + tilt * len;
-            tris.push([
-                [tip[0], tip[1], z - tilt * len],
-                [
-                    base[0] + side[0],
-                    base[1] + side[1],
-                    zb + rng.float(-0.5, 0.5),
-                ],
-                [
-                    base[0] - side[0],
-                    base[1] - side[1],
-                    zb + rng.float(-0.5, 0.5),
-                ],
-            ]);
-        }
-        Self::assemble(rng, p, tris)
+    while tris.len() < n {
+        let h = hubs[rng.below(hubs.len() as u64) as usize];
+        let a = rng.float(0.0, std::f64::consts::TAU);
+        let len = rng.float(p.min_size, p.max_size) * 2.0;
+        let width = rng.float(0.01, 0.06);
+        let hub = [h[0] + rng.float(-0.02, 0.02), h[1] + rng.float(-0.02, 0.02)];
+        let (dx, dy) = (a.cos(), a.sin());
+        let side = [-dy * width, dx * width];
+        let z = rng.float(-3.0, 3.0);
+        let tilt = rng.float(-1.0, 1.0);
+        // A long thin triangle crossing the hub, half as wide there as at its base.
+        let tip = [hub[0] - len * dx, hub[1] - len * dy];
+        let base = [hub[0] + len * dx, hub[1] + len * dy];
+        let zb = z + tilt * len;
+        tris.push([
+            [tip[0], tip[1], z - tilt * len],
+            [
+                base[0] + side[0],
+                base[1] + side[1],
+                zb + rng.float(-0.5, 0.5),
+            ],
+            [
+                base[0] - side[0],
+                base[1] - side[1],
+                zb + rng.float(-0.5, 0.5),
+            ],
+        ]);
     }
+    assemble(rng, p, tris)
+}
 
-    /// Objects, camera, light and background around the given triangles.
-    fn assemble(rng: &mut Rng, p: &SceneParams, tris: Vec<[[f64; 3]; 3]>) -> Self {
-        let n = tris.len();
-        let n_objects = rng.range(1, 4.min(n as i64)) as usize;
-        let mut cuts: Vec<usize> = (0..n_objects - 1)
-            .map(|_| rng.range(1, n as i64 - 1) as usize)
-            .collect();
-        cuts.push(0);
-        cuts.push(n);
-        cuts.sort_unstable();
-        cuts.dedup();
-        let mut objects = Vec::new();
-        for w in cuts.windows(2) {
-            let group = &tris[w[0]..w[1]];
-            let mut positions = Vec::new();
-            let mut normals = Vec::new();
-            let mut triangles = Vec::new();
-            for t in group {
-                let base = positions.len() as u32;
-                for v in t {
-                    positions.push(v.map(coord));
-                    normals.push(random_normal(rng));
-                }
-                // Random winding, so culling removes some triangles.
-                if rng.chance(0.5) {
-                    triangles.push([base, base + 1, base + 2]);
-                } else {
-                    triangles.push([base, base + 2, base + 1]);
-                }
+/// Objects, camera, light and background around the given triangles.
+fn assemble(rng: &mut Rng, p: &SceneParams, tris: Vec<[[f64; 3]; 3]>) -> OwnedScene {
+    let n = tris.len();
+    let n_objects = rng.range(1, 4.min(n as i64)) as usize;
+    let mut cuts: Vec<usize> = (0..n_objects - 1)
+        .map(|_| rng.range(1, n as i64 - 1) as usize)
+        .collect();
+    cuts.push(0);
+    cuts.push(n);
+    cuts.sort_unstable();
+    cuts.dedup();
+    let mut objects = Vec::new();
+    for w in cuts.windows(2) {
+        let group = &tris[w[0]..w[1]];
+        let mut positions = Vec::new();
+        let mut normals = Vec::new();
+        let mut triangles = Vec::new();
+        for t in group {
+            let base = positions.len() as u32;
+            for v in t {
+                positions.push(v.map(coord));
+                normals.push(random_normal(rng));
             }
-            let transform = if p.rotate {
-                Transform {
-                    position: [0, 1, 2].map(|_| coord(rng.float(-1.0, 1.0))),
-                    rotation_deg: [0, 1, 2].map(|_| coord(rng.float(-180.0, 180.0))),
-                    scale: coord(rng.float(0.7, 1.2)),
+            // Random winding, so culling removes some triangles.
+            if rng.chance(0.5) {
+                triangles.push([base, base + 1, base + 2]);
+            } else {
+                triangles.push([base, base + 2, base + 1]);
+            }
+        }
+        let transform = if p.rotate {
+            Transform {
+                position: [0, 1, 2].map(|_| coord(rng.float(-1.0, 1.0))),
+                rotation_deg: [0, 1, 2].map(|_| coord(rng.float(-180.0, 180.0))),
+                scale: coord(rng.float(0.7, 1.2)),
+            }
+        } else {
+            Transform::default()
+        };
+        let shading = match rng.below(5) {
+            0 => Shading::Unlit,
+            1 => Shading::Flat,
+            2 => Shading::Gouraud,
+            3 => Shading::Quadratic,
+            _ => Shading::Phong,
+        };
+        objects.push(OwnedObject {
+            positions,
+            normals,
+            triangles,
+            color: rgb888(rng.color()),
+            transform,
+            cull: rng.chance(0.25),
+            shading,
+        });
+    }
+    let eye = if p.rotate {
+        let az = rng.float(-1.0, 1.0);
+        let el = rng.float(-0.6, 0.6);
+        let r = rng.float(5.0, 9.0);
+        [
+            r * el.cos() * az.sin(),
+            r * el.sin(),
+            r * el.cos() * az.cos(),
+        ]
+    } else {
+        [0.0, 0.0, 10.0]
+    };
+    let camera = Camera {
+        eye: eye.map(coord),
+        target: [Coord::ZERO; 3],
+        up: [Coord::ZERO, Coord::ONE, Coord::ZERO],
+        fov_y_deg: coord(60.0),
+        near: coord(1.0),
+        far: coord(40.0),
+    };
+    let light = if rng.chance(0.8) {
+        Some(Light {
+            direction: [0, 1, 2].map(|_| coord(rng.float(-1.0, 1.0) + 0.01)),
+            ambient: coord(rng.float(0.1, 0.4)),
+            diffuse: coord(rng.float(0.3, 0.8)),
+            specular: coord(rng.float(0.0, 0.5)),
+            shininess: rng.range(1, 32) as u8,
+        })
+    } else {
+        None
+    };
+    let turntable_deg = if p.rotate {
+        coord(rng.float(-90.0, 90.0))
+    } else {
+        Coord::ZERO
+    };
+    OwnedScene {
+        width: p.width,
+        height: p.height,
+        background: rgb888(rng.color()),
+        camera,
+        light,
+        objects,
+        turntable_deg,
+    }
+}
+
+/// The order in which the renderer visits triangles within a pixel: triangles
+/// facing the viewer before those facing away, each sorted by the first image
+/// row of their window bounding box (of the clipped polygon for clipped
+/// triangles, which count as facing the viewer), stable in scene order.
+/// Triangles the renderer skips (outside, back-facing and culled, degenerate)
+/// get `None`. Mirrors the binning and the band passes of `render_frame`.
+pub fn visiting_order(scene: &OwnedScene) -> Vec<((usize, usize), Option<u16>)> {
+    let view = ViewBasis::new(&scene.camera).expect("camera basis");
+    let (w, h) = (scene.width as i32, scene.height as i32);
+    let mut keyed = Vec::new();
+    for (oi, o) in scene.objects.iter().enumerate() {
+        let xf = ObjectTransform::new(
+            &scene.camera,
+            &view,
+            scene.width,
+            scene.height,
+            &o.transform,
+            scene.turntable_deg,
+        );
+        for (ti, tri) in o.triangles.iter().enumerate() {
+            let clip = tri.map(|v| xf.to_clip(&o.positions[v as usize]));
+            let codes = clip.map(|c| outcode(&c));
+            let mut back = false;
+            let row = if codes[0] & codes[1] & codes[2] != 0 {
+                None
+            } else if codes[0] | codes[1] | codes[2] != 0 {
+                let input = clip.map(|c| ClipVertex {
+                    clip: c,
+                    color: [0; 3],
+                    normal: [0; 3],
+                });
+                let poly = clip_triangle(&input, codes[0] | codes[1] | codes[2]);
+                let ys: Vec<i32> = poly.vertices[..poly.len]
+                    .iter()
+                    .map(|v| project(&v.clip).1 >> 4)
+                    .collect();
+                match (ys.iter().min(), ys.iter().max()) {
+                    (Some(&lo), Some(&hi)) if hi >= 0 && lo < h => Some(lo.max(0) as u16),
+                    _ => None,
                 }
             } else {
-                Transform::default()
-            };
-            let shading = match rng.below(5) {
-                0 => Shading::Unlit,
-                1 => Shading::Flat,
-                2 => Shading::Gouraud,
-                3 => Shading::Quadratic,
-                _ => Shading::Phong,
-            };
-            objects.push(OwnedObject {
-                positions,
-                normals,
-                triangles,
-                color: rng.color(),
-                transform,
-                cull: rng.chance(0.25),
-                shading,
-            });
-        }
-        let eye = if p.rotate {
-            let az = rng.float(-1.0, 1.0);
-            let el = rng.float(-0.6, 0.6);
-            let r = rng.float(5.0, 9.0);
-            [
-                r * el.cos() * az.sin(),
-                r * el.sin(),
-                r * el.cos() * az.cos(),
-            ]
-        } else {
-            [0.0, 0.0, 10.0]
-        };
-        let camera = Camera {
-            eye: eye.map(coord),
-            target: [Coord::ZERO; 3],
-            up: [Coord::ZERO, Coord::ONE, Coord::ZERO],
-            fov_y_deg: coord(60.0),
-            near: coord(1.0),
-            far: coord(40.0),
-        };
-        let light = if rng.chance(0.8) {
-            Some(Light {
-                direction: [0, 1, 2].map(|_| coord(rng.float(-1.0, 1.0) + 0.01)),
-                ambient: coord(rng.float(0.1, 0.4)),
-                diffuse: coord(rng.float(0.3, 0.8)),
-                specular: coord(rng.float(0.0, 0.5)),
-                shininess: rng.range(1, 32) as u8,
-            })
-        } else {
-            None
-        };
-        let turntable_deg = if p.rotate {
-            coord(rng.float(-90.0, 90.0))
-        } else {
-            Coord::ZERO
-        };
-        Self {
-            width: p.width,
-            height: p.height,
-            background: rng.color(),
-            camera,
-            light,
-            objects,
-            turntable_deg,
-        }
-    }
-
-    /// Triangles over all objects.
-    pub fn triangle_count(&self) -> usize {
-        self.objects.iter().map(|o| o.triangles.len()).sum()
-    }
-
-    /// Frame options (the turntable angle).
-    pub fn options(&self) -> FrameOptions {
-        FrameOptions {
-            turntable_deg: self.turntable_deg,
-        }
-    }
-
-    /// The library objects, borrowing this scene's data.
-    pub fn objects(&self) -> Vec<SceneObject<'_>> {
-        self.objects
-            .iter()
-            .map(|o| self.object(o, &o.triangles))
-            .collect()
-    }
-
-    fn object<'a>(&self, o: &'a OwnedObject, triangles: &'a [[u32; 3]]) -> SceneObject<'a> {
-        SceneObject {
-            mesh: Mesh {
-                positions: &o.positions,
-                normals: &o.normals,
-                triangles,
-            },
-            color: rgb888(o.color),
-            transform: o.transform,
-            cull_backfaces: o.cull,
-            shading: o.shading,
-        }
-    }
-
-    /// The library scene over `objects`.
-    pub fn scene<'a>(&self, objects: &'a [SceneObject<'a>]) -> Scene<'a> {
-        Scene {
-            width: self.width,
-            height: self.height,
-            background: rgb888(self.background),
-            camera: self.camera,
-            light: self.light,
-            objects,
-        }
-    }
-
-    /// The scene reduced to triangle `t` of object `o` (same camera, light and
-    /// object placement), for capturing that triangle's fragments alone.
-    pub fn single_triangle_objects(&self, o: usize, t: usize) -> Vec<SceneObject<'_>> {
-        let obj = &self.objects[o];
-        vec![self.object(obj, &obj.triangles[t..t + 1])]
-    }
-
-    /// The order in which the renderer visits triangles within a pixel: triangles
-    /// facing the viewer before those facing away, each sorted by the first image
-    /// row of their window bounding box (of the clipped polygon for clipped
-    /// triangles, which count as facing the viewer), stable in scene order.
-    /// Triangles the renderer skips (outside, back-facing and culled, degenerate)
-    /// get `None`. Mirrors the binning and the band passes of `render_frame`.
-    pub fn visiting_order(&self) -> Vec<((usize, usize), Option<u16>)> {
-        let view = ViewBasis::new(&self.camera).expect("camera basis");
-        let (w, h) = (self.width as i32, self.height as i32);
-        let mut keyed = Vec::new();
-        for (oi, o) in self.objects.iter().enumerate() {
-            let xf = ObjectTransform::new(
-                &self.camera,
-                &view,
-                self.width,
-                self.height,
-                &o.transform,
-                self.turntable_deg,
-            );
-            for (ti, tri) in o.triangles.iter().enumerate() {
-                let clip = tri.map(|v| xf.to_clip(&o.positions[v as usize]));
-                let codes = clip.map(|c| outcode(&c));
-                let mut back = false;
-                let row = if codes[0] & codes[1] & codes[2] != 0 {
-                    None
-                } else if codes[0] | codes[1] | codes[2] != 0 {
-                    let input = clip.map(|c| ClipVertex {
-                        clip: c,
+                let sv = clip.map(|c| {
+                    let (x, y, z) = project(&c);
+                    SetupVertex {
+                        x,
+                        y,
+                        z,
                         color: [0; 3],
-                        normal: [0; 3],
-                    });
-                    let poly = clip_triangle(&input, codes[0] | codes[1] | codes[2]);
-                    let ys: Vec<i32> = poly.vertices[..poly.len]
-                        .iter()
-                        .map(|v| project(&v.clip).1 >> 4)
-                        .collect();
-                    match (ys.iter().min(), ys.iter().max()) {
-                        (Some(&lo), Some(&hi)) if hi >= 0 && lo < h => Some(lo.max(0) as u16),
-                        _ => None,
                     }
+                });
+                let area2 = signed_area2(&sv);
+                let min_x = sv.iter().map(|v| v.x).min().unwrap_or(0) >> 4;
+                let max_x = sv.iter().map(|v| v.x).max().unwrap_or(0) >> 4;
+                let min_y = sv.iter().map(|v| v.y).min().unwrap_or(0) >> 4;
+                let max_y = sv.iter().map(|v| v.y).max().unwrap_or(0) >> 4;
+                back = is_backfacing(area2);
+                if area2 == 0
+                    || (o.cull && is_backfacing(area2))
+                    || max_x < 0
+                    || max_y < 0
+                    || min_x >= w
+                    || min_y >= h
+                {
+                    None
                 } else {
-                    let sv = clip.map(|c| {
-                        let (x, y, z) = project(&c);
-                        SetupVertex {
-                            x,
-                            y,
-                            z,
-                            color: [0; 3],
-                        }
-                    });
-                    let area2 = signed_area2(&sv);
-                    let min_x = sv.iter().map(|v| v.x).min().unwrap_or(0) >> 4;
-                    let max_x = sv.iter().map(|v| v.x).max().unwrap_or(0) >> 4;
-                    let min_y = sv.iter().map(|v| v.y).min().unwrap_or(0) >> 4;
-                    let max_y = sv.iter().map(|v| v.y).max().unwrap_or(0) >> 4;
-                    back = is_backfacing(area2);
-                    if area2 == 0
-                        || (o.cull && is_backfacing(area2))
-                        || max_x < 0
-                        || max_y < 0
-                        || min_x >= w
-                        || min_y >= h
-                    {
-                        None
-                    } else {
-                        Some(min_y.max(0) as u16)
-                    }
-                };
-                keyed.push(((oi, ti), row, back));
-            }
+                    Some(min_y.max(0) as u16)
+                }
+            };
+            keyed.push(((oi, ti), row, back));
         }
-        // Stable sort: skipped ones last, the rest by facing, then row.
-        keyed.sort_by_key(|&(_, row, back)| {
-            row.map_or(u32::MAX, |r| r as u32 + ((back as u32) << 16))
-        });
-        keyed.into_iter().map(|(t, row, _)| (t, row)).collect()
     }
+    // Stable sort: skipped ones last, the rest by facing, then row.
+    keyed.sort_by_key(|&(_, row, back)| row.map_or(u32::MAX, |r| r as u32 + ((back as u32) << 16)));
+    keyed.into_iter().map(|(t, row, _)| (t, row)).collect()
 }
 
 /// The fragments one triangle leaves, pixel by pixel: `(x, y, fragment)`.
@@ -677,12 +499,12 @@ pub type Stream<M> = Vec<(u16, u16, Fragment<M>)>;
 /// the renderer's visiting order. Returns `(triangle, skipped by binning, stream)`.
 pub fn triangle_streams<M: CoverageMask>(
     scene: &OwnedScene,
-    storage: &mut AStorage<M>,
+    storage: &mut FragmentStorage<M>,
 ) -> Vec<((usize, usize), bool, Stream<M>)> {
     assert!(storage.config().band_height >= scene.height);
     let options = scene.options();
     let mut out = Vec::new();
-    for ((o, t), row) in scene.visiting_order() {
+    for ((o, t), row) in visiting_order(scene) {
         let objects = scene.single_triangle_objects(o, t);
         let lib_scene = scene.scene(&objects);
         let mut stream = Vec::new();
@@ -701,21 +523,6 @@ pub fn triangle_streams<M: CoverageMask>(
     out
 }
 
-/// First differing pixel of two RGB888 images, as `(x, y, a, b)`.
-pub fn first_difference(
-    width: u16,
-    a: &[u8],
-    b: &[u8],
-) -> Option<(usize, usize, [u8; 3], [u8; 3])> {
-    assert_eq!(a.len(), b.len());
-    let w = width as usize;
-    (0..a.len() / 3).find_map(|p| {
-        let pa = [a[3 * p], a[3 * p + 1], a[3 * p + 2]];
-        let pb = [b[3 * p], b[3 * p + 1], b[3 * p + 2]];
-        (pa != pb).then_some((p % w, p / w, pa, pb))
-    })
-}
-
 // ---------------------------------------------------------------------------------
 // Prerequisites of the firmware tests
 // ---------------------------------------------------------------------------------
@@ -723,9 +530,9 @@ pub fn first_difference(
 /// Whether the tools a firmware test needs are here: `qemu-system-arm` on the
 /// `PATH` (when `qemu` is set) and the Rust `target` installed. When one is
 /// missing, the test should return early: this prints why and returns `false`,
-/// unless `ABUFFER_REQUIRE_FIRMWARE_TOOLS=1` is set (the README's test command
-/// sets it, after installing both), in which case it panics instead, so that a
-/// missing tool fails loudly rather than skipping.
+/// unless `ABUFFER_REQUIRE_QEMU=1` is set (the README's test command sets it,
+/// after installing both), in which case it panics instead, so that a missing
+/// tool fails loudly rather than skipping.
 pub fn firmware_tools_present(test: &str, target: &str, qemu: bool) -> bool {
     let mut missing = Vec::new();
     if qemu
@@ -753,13 +560,16 @@ pub fn firmware_tools_present(test: &str, target: &str, qemu: bool) -> bool {
     if missing.is_empty() {
         return true;
     }
-    let why = format!("{test}: skipped, missing {}", missing.join(" and "));
-    if std::env::var("ABUFFER_REQUIRE_FIRMWARE_TOOLS").as_deref() == Ok("1") {
-        panic!("{why} (ABUFFER_REQUIRE_FIRMWARE_TOOLS=1)");
+    let missing = missing.join(" and ");
+    if std::env::var("ABUFFER_REQUIRE_QEMU").as_deref() == Ok("1") {
+        panic!("{test}: missing {missing}, required by ABUFFER_REQUIRE_QEMU=1");
     }
     // Straight to the process's stderr: the test harness would hide an
     // `eprintln!` of a passing test.
     use std::io::Write as _;
-    let _ = writeln!(std::io::stderr().lock(), "{why}");
+    let _ = writeln!(
+        std::io::stderr().lock(),
+        "{test}: skipped, missing {missing}"
+    );
     false
 }

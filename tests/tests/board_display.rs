@@ -10,12 +10,13 @@ use abuffer_panel::link::{PanelLink, SpiPanelLink};
 use abuffer_panel::overlay::BandCanvas;
 use abuffer_panel::st7789::{self, CASET, RAMWR, RASET};
 use abuffer_panel::stream::{BandStream, StreamError};
+use abuffer_test_support::OwnedWorkspace;
 use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
 use embedded_graphics_core::pixelcolor::{Rgb565, Rgb888};
 use embedded_hal::delay::DelayNs;
 use host_sim::builtins::builtin_scene;
 use host_sim::convert::{to_fixed, FixedScene};
-use host_sim::render::{abuffer, render, Method, RenderConfig, Workspace};
+use host_sim::render::{abuffer, render, Method, RenderConfig};
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::{BufferConfig, LineSink, Mask4x4, OverflowPolicy};
 
@@ -77,7 +78,7 @@ where
     let fixed = scene(name);
     let objects = fixed.objects();
     let lib_scene = fixed.scene(&objects);
-    let mut workspace = Workspace::for_scene(&fixed);
+    let mut workspace = OwnedWorkspace::for_scene(&lib_scene);
     let config = BufferConfig {
         width: W,
         band_height: BAND,
@@ -86,7 +87,7 @@ where
         policy: OverflowPolicy::MergeFarthest,
     };
     let mut storage = abuffer::<Mask4x4, u16>(config, defaults::POOL_SLOTS).unwrap();
-    let mut buffer = storage.as_buffer().unwrap();
+    let mut buffer = storage.buffer();
     render_turntable_frame(
         &lib_scene,
         Coord::from_num(angle),

@@ -14,165 +14,54 @@
 //!   is lost. A workspace too small for the scene is an error before any drawing.
 //!
 //! Every rendering also goes through the buffer's invariant checks of
-//! [`checked_render`]: stored masks pairwise disjoint, no pixel over its budget,
-//! every pool slot accounted for.
+//! [`checked_render`] (`abuffer_test_support::Checked`, after every insertion
+//! and at the end of every band): stored masks pairwise disjoint, no pixel over
+//! its budget, every pool slot accounted for.
 
-use embedded_graphics_core::pixelcolor::Rgb888;
+use abuffer_test_support::{
+    first_difference, Checked, FragmentStorage, OwnedObject, OwnedScene, OwnedWorkspace,
+    PerSampleZBuffer,
+};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x8};
 use mcu_abuffer::fixed_point::Coord;
-use mcu_abuffer::fragment::Fragment;
-use mcu_abuffer::fragment_buffer::{BufferConfig, FragmentBuffer, OverflowPolicy};
-use mcu_abuffer::renderer::{
-    render_frame, FrameWorkspace, ObjectFrame, RenderError, ScreenVertex, WorkspacePart,
-};
+use mcu_abuffer::fragment_buffer::{BufferConfig, OverflowPolicy};
+use mcu_abuffer::renderer::{render_frame, RenderError, WorkspacePart};
 use mcu_abuffer::scene::{Camera, Scene, Shading, Transform};
 use mcu_abuffer::sink::ImageSink;
-use mcu_abuffer::stats::{BufferStats, FrameStats};
-use system_tests::{first_difference, render, AStorage, OwnedObject, OwnedScene, Rng, Unit};
+use mcu_abuffer::stats::FrameStats;
+use system_tests::{render, rgb888, Rng, Unit};
 
 // ---------------------------------------------------------------------------------
 // Oracle and checks
 // ---------------------------------------------------------------------------------
 
-/// A z-buffer per sample that also counts how many fragments covered each sample.
-struct PerSample<M: CoverageMask> {
-    width: u16,
-    band_height: u16,
-    y0: u16,
-    depth: Vec<Option<i32>>,
-    color: Vec<Rgb888>,
-    /// Coverage count of every sample of the image, rows top to bottom.
-    hits: Vec<u32>,
-    image_height: u16,
-    _grid: core::marker::PhantomData<M>,
-}
-
-impl<M: CoverageMask> PerSample<M> {
-    fn new(width: u16, band_height: u16, image_height: u16) -> Self {
-        let n = width as usize * band_height as usize * M::SAMPLES as usize;
-        Self {
-            width,
-            band_height,
-            y0: 0,
-            depth: vec![None; n],
-            color: vec![Rgb888::new(0, 0, 0); n],
-            hits: vec![0; width as usize * image_height as usize * M::SAMPLES as usize],
-            image_height,
-            _grid: core::marker::PhantomData,
-        }
-    }
-
-    fn base(&self, x: u16, row: u16) -> usize {
-        (row as usize * self.width as usize + x as usize) * M::SAMPLES as usize
-    }
-
-    /// How many fragments covered sample `s` of image pixel `(x, y)`.
-    fn hits(&self, x: u16, y: u16, s: u32) -> u32 {
-        assert!(y < self.image_height);
-        self.hits
-            [(y as usize * self.width as usize + x as usize) * M::SAMPLES as usize + s as usize]
-    }
-}
-
-impl<M: CoverageMask> BandBuffer<M> for PerSample<M> {
-    fn width(&self) -> u16 {
-        self.width
-    }
-    fn band_height(&self) -> u16 {
-        self.band_height
-    }
-    fn begin_band(&mut self, y0: u16, _rows: u16) {
-        self.y0 = y0;
-        self.depth.fill(None);
-    }
-    /// Ties go to the newer fragment, as in the A-buffer.
-    fn insert(&mut self, x: u16, row: u16, f: &Fragment<M>) {
-        let base = self.base(x, row);
-        let image =
-            ((self.y0 + row) as usize * self.width as usize + x as usize) * M::SAMPLES as usize;
-        for s in 0..M::SAMPLES {
-            if f.mask.get(s) {
-                self.hits[image + s as usize] += 1;
-                let d = f.depth_at(s % M::COLS, s / M::COLS);
-                let slot = &mut self.depth[base + s as usize];
-                if slot.is_none_or(|old| d <= old) {
-                    *slot = Some(d);
-                    self.color[base + s as usize] = f.color;
-                }
-            }
-        }
-    }
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        use embedded_graphics_core::pixelcolor::RgbColor;
-        for (x, px) in out.iter_mut().enumerate().take(self.width as usize) {
-            let base = self.base(x as u16, row);
-            let mut sum = [0u32; 3];
-            for s in 0..M::SAMPLES as usize {
-                let c = if self.depth[base + s].is_some() {
-                    self.color[base + s]
-                } else {
-                    background
-                };
-                sum[0] += c.r() as u32;
-                sum[1] += c.g() as u32;
-                sum[2] += c.b() as u32;
-            }
-            let v = sum.map(|v| ((v + M::SAMPLES / 2) >> M::SAMPLES_LOG2) as u8);
-            *px = Rgb888::new(v[0], v[1], v[2]);
-        }
-    }
-    fn pixel_fragment_count(&self, _x: u16, _row: u16) -> u32 {
-        0
-    }
-    fn stats(&self) -> BufferStats {
-        BufferStats::default()
-    }
-    fn take_stats(&mut self) -> BufferStats {
-        BufferStats::default()
-    }
-}
-
 /// The masks stored in every pixel of a finished band, image row by row:
 /// `masks[y][x]` lists the pixel's fragments' masks, nearest first.
 type Masks<M> = Vec<Vec<Vec<M>>>;
 
-/// Renders through `buffer`, checking at the end of every band that stored masks
-/// are non-empty and pairwise disjoint, lists are sorted by depth, no pixel holds
-/// more than it may, and the pool holds exactly the slots the lists use. Returns
-/// the image, the statistics and every pixel's masks.
+/// Renders through `storage`'s buffer wrapped in [`Checked`], which asserts
+/// after every insertion and at the end of every band that stored masks are
+/// non-empty and pairwise disjoint, lists are sorted by depth, no pixel holds
+/// more than it may, and the pool holds exactly the slots the lists use.
+/// Returns the image, the statistics and every pixel's masks.
 fn checked_render<M: CoverageMask>(
     scene: &Scene<'_>,
-    storage: &mut AStorage<M>,
+    storage: &mut FragmentStorage<M>,
 ) -> (Vec<u8>, FrameStats, Masks<M>) {
-    let config = storage.config();
     let mut masks: Masks<M> = vec![vec![Vec::new(); scene.width as usize]; scene.height as usize];
-    let mut buffer = storage.buffer();
+    let mut buffer = Checked::new(storage.buffer());
     let (image, stats) = render(
         scene,
         &Default::default(),
         &mut buffer,
-        |y0, rows, b: &FragmentBuffer<'_, M, u32>| {
-            let mut pool_slots = 0;
+        |y0, rows, b: &Checked<_>| {
             for row in 0..rows {
                 for x in 0..b.width() {
-                    let list: Vec<Fragment<M>> = b.fragments(x, row).collect();
-                    assert!(list.len() <= config.pixel_capacity());
-                    for (i, f) in list.iter().enumerate() {
-                        assert!(!f.mask.is_empty());
-                        for g in &list[i + 1..] {
-                            assert!(
-                                (f.mask & g.mask).is_empty(),
-                                "masks overlap at ({x}, {row})"
-                            );
-                            assert!(f.z <= g.z);
-                        }
-                    }
-                    pool_slots += list.len().saturating_sub(config.main_slots as usize);
-                    masks[(y0 + row) as usize][x as usize] = list.iter().map(|f| f.mask).collect();
+                    masks[(y0 + row) as usize][x as usize] =
+                        b.inner().fragments(x, row).map(|f| f.mask).collect();
                 }
             }
-            assert_eq!(b.pool().in_use(), pool_slots, "pool slots unaccounted for");
         },
     );
     (image, stats, masks)
@@ -184,10 +73,10 @@ fn checked_render<M: CoverageMask>(
 fn assert_oracle<M: CoverageMask>(
     scene: &Scene<'_>,
     band: u16,
-) -> ((Vec<u8>, FrameStats, Masks<M>), PerSample<M>) {
-    let mut storage = AStorage::<M>::unlimited(scene.width, band);
+) -> ((Vec<u8>, FrameStats, Masks<M>), PerSampleZBuffer<M>) {
+    let mut storage = FragmentStorage::<M>::unlimited(scene.width, band);
     let unlimited = checked_render(scene, &mut storage);
-    let mut reference = PerSample::<M>::new(scene.width, band, scene.height);
+    let mut reference = PerSampleZBuffer::<M>::new(scene.width, band).counting_hits(scene.height);
     let (expected, _) = render(scene, &Default::default(), &mut reference, |_, _, _| {});
     if let Some((x, y, a, b)) = first_difference(scene.width, &unlimited.0, &expected) {
         panic!("unlimited A-buffer and per-sample z-buffer differ at ({x}, {y}): {a:?} vs {b:?}");
@@ -197,8 +86,14 @@ fn assert_oracle<M: CoverageMask>(
 }
 
 /// A shared buffer with `main`, `extra`, `pool` and band `band`, merging the two farthest.
-fn shared<M: CoverageMask>(width: u16, band: u16, main: u8, extra: u8, pool: usize) -> AStorage<M> {
-    AStorage::new(
+fn shared<M: CoverageMask>(
+    width: u16,
+    band: u16,
+    main: u8,
+    extra: u8,
+    pool: usize,
+) -> FragmentStorage<M> {
+    FragmentStorage::new(
         BufferConfig {
             width,
             band_height: band,
@@ -240,7 +135,7 @@ fn triangles(tris: &[[[f64; 3]; 3]], color: [u8; 3]) -> OwnedObject {
         triangles: (0..tris.len() as u32)
             .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
             .collect(),
-        color,
+        color: rgb888(color),
         transform: Transform::default(),
         cull: false,
         shading: Shading::Unlit,
@@ -251,7 +146,7 @@ fn scene(width: u16, height: u16, camera: Camera, objects: Vec<OwnedObject>) -> 
     OwnedScene {
         width,
         height,
-        background: [255, 0, 255],
+        background: rgb888([255, 0, 255]),
         camera,
         light: None,
         objects,
@@ -659,40 +554,15 @@ fn five_thousand_triangles_in_one_row() {
 
     // The active list is the workspace's triangle order: one entry short is an error.
     let n = lib.triangle_count();
-    let mut objects_ws = vec![
-        ObjectFrame {
-            transform: mcu_abuffer::geometry::ObjectTransform {
-                clip: mcu_abuffer::geometry::ClipTransform {
-                    rows: [[0; 3]; 4],
-                    offsets: [0; 4],
-                },
-                normal: [[0; 3]; 3],
-            },
-            vertex_base: 0,
-            triangle_base: 0,
-        };
-        lib.objects.len()
-    ];
-    let mut vertices = vec![ScreenVertex::default(); lib.vertex_count()];
-    let mut rows = vec![0u16; n];
-    let mut order = vec![0u32; n - 1];
-    let mut row_starts = vec![0u32; h as usize + 1];
-    let mut line = vec![Rgb888::new(0, 0, 0); w as usize];
-    let mut ws = FrameWorkspace {
-        objects: &mut objects_ws,
-        vertices: &mut vertices,
-        triangle_rows: &mut rows,
-        triangle_order: &mut order,
-        row_starts: &mut row_starts,
-        line: &mut line,
-    };
+    let mut ws = OwnedWorkspace::for_scene(&lib);
+    ws.triangle_order.pop();
     let mut image = vec![0u8; w as usize * 3];
     let mut sink = ImageSink::new(w, &mut image);
     let mut storage = shared::<Mask8x8>(w, 1, 1, 0, 0);
     let err = render_frame(
         &lib,
         &Default::default(),
-        &mut ws,
+        &mut ws.borrow(),
         &mut storage.buffer(),
         &mut sink,
         |_, _, _| {},

@@ -3,6 +3,8 @@
 //! tests build with overflow checks, so an arithmetic overflow fails them the way
 //! it failed the fuzzer.
 
+use abuffer_test_support::{FragmentStorage, OwnedObject, OwnedScene};
+use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use host_sim::convert::to_fixed;
 use host_sim::render::{render, RenderConfig};
 use host_sim::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc};
@@ -12,14 +14,14 @@ use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment_buffer::{BufferConfig, OverflowPolicy};
 use mcu_abuffer::scene::{Camera, Light, SceneError, Shading, Transform};
 use std::path::Path;
-use system_tests::{render as render_scene, AStorage, OwnedObject, OwnedScene, Unit};
+use system_tests::{render as render_scene, Unit};
 
 fn c(v: f64) -> Coord {
     Coord::from_num(v)
 }
 
-fn smallest_buffer(width: u16) -> AStorage<Mask4x4> {
-    AStorage::new(
+fn smallest_buffer(width: u16) -> FragmentStorage<Mask4x4> {
+    FragmentStorage::new(
         BufferConfig {
             width,
             band_height: 1,
@@ -41,7 +43,7 @@ fn object(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> OwnedObject {
         positions: positions.iter().map(|p| p.map(c)).collect(),
         normals: vec![unit([0.0, 0.0, 1.0]); positions.len()],
         triangles: triangles.to_vec(),
-        color: [58, 58, 58],
+        color: Rgb888::new(58, 58, 58),
         transform: Transform::default(),
         cull: false,
         shading: Shading::Unlit,
@@ -75,7 +77,7 @@ fn camera_basis_of_points_at_opposite_ends_of_the_range() {
     let scene = OwnedScene {
         width: 8,
         height: 4,
-        background: [0, 0, 0],
+        background: Rgb888::BLACK,
         camera,
         light: None,
         objects: vec![object(
@@ -106,7 +108,7 @@ fn light_coefficients_at_their_largest() {
         let scene = OwnedScene {
             width: 8,
             height: 8,
-            background: [0, 0, 0],
+            background: Rgb888::BLACK,
             camera: Camera {
                 eye: [c(0.0), c(0.0), c(3.0)],
                 target: [Coord::ZERO; 3],
@@ -151,7 +153,7 @@ fn normals_of_other_than_unit_length_are_refused() {
     let scene = OwnedScene {
         width: 8,
         height: 1,
-        background: [0, 0, 0],
+        background: Rgb888::BLACK,
         camera: Camera {
             eye: [c(0.0), c(0.0), c(3.0)],
             target: [Coord::ZERO; 3],
@@ -216,7 +218,7 @@ fn clipping_vertices_at_the_largest_clip_coordinates() {
     let scene = OwnedScene {
         width: 1,
         height: 1,
-        background: [1, 130, 0],
+        background: Rgb888::new(1, 130, 0),
         camera: Camera {
             eye: [c(14.98828), c(-15.7461), c(-15.52734)],
             target: [c(-3.54297), c(-1.0), c(12.47266)],

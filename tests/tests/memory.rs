@@ -11,11 +11,12 @@
 //! And with room for every sample (`N_main + N_extra >= SAMPLES`, a pool for every
 //! address) the shared buffer draws exactly the unlimited image, without merging.
 
+use abuffer_test_support::{first_difference, FragmentStorage, OwnedScene};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::fragment_buffer::{BufferConfig, FragmentBuffer, OverflowPolicy};
-use system_tests::{first_difference, render, AStorage, OwnedScene, Rng, SceneParams};
+use system_tests::{deep_scene, random_scene, render, Rng, SceneParams};
 
 const WIDTH: u16 = 48;
 const HEIGHT: u16 = 32;
@@ -42,9 +43,9 @@ fn dense_scene(seed: u64) -> OwnedScene {
         rotate: seed % 5 == 4,
     };
     if seed % 2 == 1 {
-        OwnedScene::deep(&mut rng, &params)
+        deep_scene(&mut rng, &params)
     } else {
-        OwnedScene::random(&mut rng, &params)
+        random_scene(&mut rng, &params)
     }
 }
 
@@ -133,7 +134,7 @@ fn invariants<M: CoverageMask>(scenes: u64, seed: u64) {
                          extra {extra} pool {pool}",
                         M::NAME
                     );
-                    let mut storage = AStorage::<M>::new(config, pool);
+                    let mut storage = FragmentStorage::<M>::new(config, pool);
                     let mut buffer = storage.buffer();
                     let mut next_y0 = 0u16;
                     let (_, stats) = render(&lib_scene, &options, &mut buffer, |y0, rows, b| {
@@ -211,7 +212,7 @@ fn room_for_every_sample<M: CoverageMask>(scenes: u64, seed: u64) {
         let objects = scene.objects();
         let lib_scene = scene.scene(&objects);
         let options = scene.options();
-        let mut unlimited = AStorage::<M>::unlimited(WIDTH, HEIGHT);
+        let mut unlimited = FragmentStorage::<M>::unlimited(WIDTH, HEIGHT);
         let (reference, ref_stats) =
             render(&lib_scene, &options, &mut unlimited.buffer(), |_, _, _| {});
         assert_eq!(ref_stats.buffer.merges, 0);
@@ -226,7 +227,7 @@ fn room_for_every_sample<M: CoverageMask>(scenes: u64, seed: u64) {
                     policy: OverflowPolicy::MergeFarthest,
                 };
                 let pool = WIDTH as usize * band as usize * extra as usize;
-                let mut storage = AStorage::<M>::new(config, pool);
+                let mut storage = FragmentStorage::<M>::new(config, pool);
                 let mut buffer = storage.buffer();
                 let (image, stats) = render(&lib_scene, &options, &mut buffer, |_, rows, b| {
                     check_band(b, rows, "room for every sample");

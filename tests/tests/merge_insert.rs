@@ -2,13 +2,14 @@
 //! three overflow policies, on hand-made cases and against a reference model of one
 //! pixel's fragment list (property test).
 
+use abuffer_test_support::FragmentStorage;
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::Mask4x4;
 use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::fragment_buffer::{BufferConfig, OverflowPolicy};
 use mcu_abuffer::stats::BufferStats;
 use proptest::prelude::*;
-use system_tests::{channels, fragment, rgb888, rgb_of, AStorage};
+use system_tests::{channels, fragment, rgb888, rgb_of};
 
 type F = Fragment<Mask4x4>;
 
@@ -76,7 +77,7 @@ fn merged(a: &Plain, b: &Plain) -> Plain {
 
 /// One pixel: a fragment buffer of width 1 and one row.
 struct Pixel {
-    storage: AStorage<Mask4x4>,
+    storage: FragmentStorage<Mask4x4>,
 }
 
 impl Pixel {
@@ -89,7 +90,7 @@ impl Pixel {
             policy,
         };
         Self {
-            storage: AStorage::new(config, pool),
+            storage: FragmentStorage::new(config, pool),
         }
     }
 

@@ -1,9 +1,9 @@
 //! SPEC section 3: an unlimited A-buffer is exactly a per-sample z-buffer that shades
 //! once per fragment. On random scenes, the image of `render_frame` through an
 //! unlimited `FragmentBuffer` must equal, pixel for pixel, the image of
-//! `render_frame` through a per-sample z-buffer (`PerSampleZBuffer`, a `BandBuffer`
-//! written here), for every grid and band height; and the unlimited image must not
-//! depend on the band height.
+//! `render_frame` through a per-sample z-buffer (`abuffer_test_support`'s
+//! `PerSampleZBuffer`), for every grid and band height; and the unlimited image
+//! must not depend on the band height.
 //!
 //! A second, independent feed of the same oracle checks the fragment stream itself:
 //! every triangle is rendered alone (same camera, light and placement), its fragments
@@ -12,147 +12,16 @@
 //! neither on the other triangles nor on the band height, so the replay must give
 //! the same image.
 
-use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+use abuffer_test_support::{first_difference, FragmentStorage, PerSampleZBuffer};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x4, Mask8x8};
-use mcu_abuffer::fragment::Fragment;
-use mcu_abuffer::stats::BufferStats;
 use system_tests::{
-    first_difference, render, rgb_of, triangle_streams, AStorage, OwnedScene, Rng, SceneParams,
-    Stream,
+    deep_scene, random_scene, render, rgb888, rgb_of, triangle_streams, Rng, SceneParams, Stream,
 };
 
 const WIDTH: u16 = 64;
 const HEIGHT: u16 = 48;
 const BANDS: [u16; 4] = [1, 5, 16, HEIGHT];
-
-/// Per-sample z-buffer over one band: a depth (`Fragment::depth_at`, i.e.
-/// `16 z + dzdx ox + dzdy oy`) and a color per sample.
-struct PerSampleZBuffer<M: CoverageMask> {
-    width: u16,
-    band_height: u16,
-    depth: Vec<Option<i32>>,
-    color: Vec<[u8; 3]>,
-    stats: BufferStats,
-    _grid: core::marker::PhantomData<M>,
-}
-
-impl<M: CoverageMask> PerSampleZBuffer<M> {
-    fn new(width: u16, band_height: u16) -> Self {
-        let n = width as usize * band_height as usize * M::SAMPLES as usize;
-        Self {
-            width,
-            band_height,
-            depth: vec![None; n],
-            color: vec![[0; 3]; n],
-            stats: BufferStats::default(),
-            _grid: core::marker::PhantomData,
-        }
-    }
-
-    fn base(&self, x: u16, row: u16) -> usize {
-        (row as usize * self.width as usize + x as usize) * M::SAMPLES as usize
-    }
-
-    /// Per pixel: the mean of the sample colors (background where empty), rounded to
-    /// nearest as `(sum + SAMPLES / 2) >> log2(SAMPLES)`.
-    fn resolve_pixel(&self, x: u16, row: u16, background: [u8; 3]) -> [u8; 3] {
-        let base = self.base(x, row);
-        let mut sum = [0u32; 3];
-        for i in base..base + M::SAMPLES as usize {
-            let c = if self.depth[i].is_some() {
-                self.color[i]
-            } else {
-                background
-            };
-            for (acc, v) in sum.iter_mut().zip(c) {
-                *acc += v as u32;
-            }
-        }
-        sum.map(|v| ((v + M::SAMPLES / 2) >> M::SAMPLES_LOG2) as u8)
-    }
-
-    /// The whole band as RGB888 bytes.
-    fn resolve_all(&self, background: [u8; 3]) -> Vec<u8> {
-        let mut out = Vec::new();
-        for row in 0..self.band_height {
-            for x in 0..self.width {
-                out.extend(self.resolve_pixel(x, row, background));
-            }
-        }
-        out
-    }
-
-    /// Distinct colors visible in pixel `(x, row)`.
-    fn surfaces(&self, x: u16, row: u16) -> usize {
-        let base = self.base(x, row);
-        let mut seen: Vec<[u8; 3]> = Vec::new();
-        for i in base..base + M::SAMPLES as usize {
-            if self.depth[i].is_some() && !seen.contains(&self.color[i]) {
-                seen.push(self.color[i]);
-            }
-        }
-        seen.len()
-    }
-}
-
-impl<M: CoverageMask> BandBuffer<M> for PerSampleZBuffer<M> {
-    fn width(&self) -> u16 {
-        self.width
-    }
-
-    fn band_height(&self) -> u16 {
-        self.band_height
-    }
-
-    fn begin_band(&mut self, _y0: u16, rows: u16) {
-        let n = self.base(0, rows.min(self.band_height));
-        self.depth[..n].fill(None);
-    }
-
-    /// For every sample of the fragment's mask, the fragment wins when its depth there
-    /// is nearer than or equal to the stored one (ties go to the newer fragment).
-    fn insert(&mut self, x: u16, row: u16, f: &Fragment<M>) {
-        self.stats.fragments_generated += 1;
-        let base = self.base(x, row);
-        let rgb = rgb_of(f);
-        for s in 0..M::SAMPLES {
-            if !f.mask.get(s) {
-                continue;
-            }
-            let d = f.depth_at(s % M::COLS, s / M::COLS);
-            let slot = base + s as usize;
-            let wins = match self.depth[slot] {
-                None => true,
-                Some(stored) => d <= stored,
-            };
-            if wins {
-                self.depth[slot] = Some(d);
-                self.color[slot] = rgb;
-            }
-        }
-    }
-
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        let bg = [background.r(), background.g(), background.b()];
-        for (x, px) in out.iter_mut().enumerate().take(self.width as usize) {
-            let [r, g, b] = self.resolve_pixel(x as u16, row, bg);
-            *px = Rgb888::new(r, g, b);
-        }
-    }
-
-    fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
-        self.surfaces(x, row) as u32
-    }
-
-    fn stats(&self) -> BufferStats {
-        self.stats
-    }
-
-    fn take_stats(&mut self) -> BufferStats {
-        core::mem::take(&mut self.stats)
-    }
-}
 
 fn describe_pixel<M: CoverageMask>(
     streams: &[((usize, usize), bool, Stream<M>)],
@@ -189,13 +58,13 @@ struct Coverage {
 }
 
 fn run_grid<M: CoverageMask>(scenes: u64, seed: u64) -> Coverage {
-    let mut capture = AStorage::<M>::unlimited(WIDTH, HEIGHT);
-    let mut buffers: Vec<(u16, AStorage<M>, PerSampleZBuffer<M>)> = BANDS
+    let mut capture = FragmentStorage::<M>::unlimited(WIDTH, HEIGHT);
+    let mut buffers: Vec<(u16, FragmentStorage<M>, PerSampleZBuffer<M>)> = BANDS
         .iter()
         .map(|&b| {
             (
                 b,
-                AStorage::<M>::unlimited(WIDTH, b),
+                FragmentStorage::<M>::unlimited(WIDTH, b),
                 PerSampleZBuffer::<M>::new(WIDTH, b),
             )
         })
@@ -217,9 +86,9 @@ fn run_grid<M: CoverageMask>(scenes: u64, seed: u64) -> Coverage {
             rotate,
         };
         let scene = if deep {
-            OwnedScene::deep(&mut rng, &params)
+            deep_scene(&mut rng, &params)
         } else {
-            OwnedScene::random(&mut rng, &params)
+            random_scene(&mut rng, &params)
         };
         cov.scenes += 1;
         cov.triangles += scene.triangle_count();
@@ -341,7 +210,7 @@ fn oracle_resolves_a_split_pixel() {
     z.insert(0, 0, &b);
     z.insert(0, 0, &a);
     // 8 samples each: (200*8 + 8) >> 4 = 100, (100*8 + 8) >> 4 = 50.
-    assert_eq!(z.resolve_all([0, 0, 255]), vec![100, 50, 0]);
+    assert_eq!(z.resolve_all(rgb888([0, 0, 255])), vec![100, 50, 0]);
     z.begin_band(0, 1);
     z.insert(
         0,
@@ -349,5 +218,5 @@ fn oracle_resolves_a_split_pixel() {
         &system_tests::fragment(Mask4x4(0x000F), 10, 0, 0, [255, 255, 255]),
     );
     // 4 white + 12 background (0, 0, 255): r = (255*4 + 8) >> 4 = 64, b = (255*16 + 8) >> 4 = 255.
-    assert_eq!(z.resolve_all([0, 0, 255]), vec![64, 64, 255]);
+    assert_eq!(z.resolve_all(rgb888([0, 0, 255])), vec![64, 64, 255]);
 }

@@ -3,7 +3,8 @@
 //! tests build with them): the bounds the documentation states are asserted, and
 //! nothing on the way may overflow.
 
-use embedded_graphics_core::pixelcolor::Rgb888;
+use abuffer_test_support::{FragmentStorage, OwnedObject, OwnedScene};
+use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::clip::{clip_triangle, ClipVertex};
 use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x8};
@@ -22,7 +23,7 @@ use mcu_abuffer::setup::{ColorPlanes, ColorSource, SetupVertex, TriangleSetup};
 use mcu_abuffer::shading::TriangleLighting;
 use mcu_abuffer::stats::BufferStats;
 use mcu_abuffer::visibility::visibility_mask;
-use system_tests::{render, AStorage, OwnedObject, OwnedScene, Rng, Unit};
+use system_tests::{render, Rng, Unit};
 
 const LIMIT: i32 = GUARD_BAND_PX << 4;
 
@@ -423,7 +424,7 @@ fn lighting_at_its_limits() {
 /// Resolve with 64 samples of full intensity: the sums stay exact.
 #[test]
 fn resolve_at_its_limits() {
-    let mut storage = AStorage::<Mask8x8>::new(
+    let mut storage = FragmentStorage::<Mask8x8>::new(
         BufferConfig {
             width: 2,
             band_height: 1,
@@ -497,7 +498,7 @@ fn buffer_and_frame_limits() {
         positions: vec![[Coord::ZERO; 3]; 3],
         normals: vec![unit; 3],
         triangles: vec![[0, 1, 2]],
-        color: [1, 2, 3],
+        color: Rgb888::new(1, 2, 3),
         transform: Transform::default(),
         cull: false,
         shading: mcu_abuffer::scene::Shading::Unlit,
@@ -505,7 +506,7 @@ fn buffer_and_frame_limits() {
     let mut scene = OwnedScene {
         width: 2048,
         height: 2048,
-        background: [0, 0, 0],
+        background: Rgb888::BLACK,
         camera: camera(
             [Coord::ZERO, Coord::ZERO, Coord::from_num(4)],
             [Coord::ZERO; 3],
@@ -527,7 +528,7 @@ fn buffer_and_frame_limits() {
     scene.objects = vec![object; 256];
     let objects = scene.objects();
     let lib = scene.scene(&objects);
-    let mut storage = AStorage::<Mask4x4>::new(config(1, 0), 0);
+    let mut storage = FragmentStorage::<Mask4x4>::new(config(1, 0), 0);
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         render(
             &lib,
