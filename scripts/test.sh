@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test on a fresh machine: installs what is missing (the toolchain of
 # rust-toolchain.toml with its targets, QEMU, the toolchain of the workspace's
-# minimum Rust version when it can be had), then checks formatting and lints,
+# minimum Rust version), then checks formatting and lints,
 # checks the workspace with its minimum Rust version, builds the library for
 # bare-metal targets, and runs the whole suite: host unit and system tests, the QEMU
 # firmware parity and instruction-count tests (Cortex-M4) and the SPI display
