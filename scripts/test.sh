@@ -38,7 +38,9 @@ echo "== clippy"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi -- -D warnings
-cargo clippy --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
+cargo clippy --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --all-targets -- -D warnings
+# The minimal example firmware (README, "Add it to your firmware") links for the board.
+cargo build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal
 
 echo "== the declared minimum Rust version (workspace rust-version) builds everything"
 msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' Cargo.toml)

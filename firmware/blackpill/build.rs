@@ -62,8 +62,11 @@ fn main() {
     println!("cargo:rerun-if-changed={}", layout.display());
     std::fs::copy(&layout, out.join("memory.x")).expect("copy memory.x");
     println!("cargo:rustc-link-search={}", out.display());
-    println!("cargo:rustc-link-arg-bins=-Tlink.x");
-    println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
+    // The demo and the examples link the same way.
+    for kind in ["bins", "examples"] {
+        println!("cargo:rustc-link-arg-{kind}=-Tlink.x");
+        println!("cargo:rustc-link-arg-{kind}=-Tdefmt.x");
+    }
 
     let (width, height) = (defaults::WIDTH as usize, defaults::HEIGHT as usize);
     let names: Vec<String> = env("BOARD_SCENES")

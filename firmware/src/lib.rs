@@ -18,6 +18,72 @@
 //! ([`coverage`] masks), [`fragment_buffer`] ([`visibility`], [`merge`], [`pool`])
 //! or [`zbuffer`] ([`zbuffer_hiz`], [`zbuffer_midpoint`]), resolve, [`sink`].
 //! [`renderer::render_frame`] drives it.
+//!
+//! # Add it to your firmware
+//!
+//! The memory lives in `static`s sized by const generics ([`memory`]); a
+//! [`static_cell::ConstStaticCell`](https://docs.rs/static_cell) hands each
+//! out once, without `unsafe` and without a copy through the stack. A
+//! [`Renderer`] then draws a [`Scene`] (meshes in flash) into any
+//! [`LineSink`]: an embedded-graphics `DrawTarget` through [`DrawTargetSink`],
+//! a display driver that takes lines, or an image in RAM as here.
+//!
+//! ```
+//! use embedded_graphics_core::pixelcolor::Rgb888;
+//! use mcu_abuffer::fixed_point::Coord;
+//! use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory};
+//! use mcu_abuffer::scene::OCTAHEDRON;
+//! use mcu_abuffer::{Camera, FrameOptions, ImageSink, Mask4x4, OverflowPolicy};
+//! use mcu_abuffer::{Renderer, Scene, SceneObject, Shading, Transform};
+//! use static_cell::ConstStaticCell;
+//!
+//! // 64x48 pixels in 8-row bands: per pixel 1 fragment slot and 2 addresses
+//! // into a pool of 256; scenes of 1 object, 6 vertices, 8 triangles.
+//! static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, 64, 8, 1, 2, 256>> =
+//!     ConstStaticCell::new(FragmentMemory::new());
+//! static WORKSPACE: ConstStaticCell<WorkspaceMemory<64, 48, 1, 6, 8>> =
+//!     ConstStaticCell::new(WorkspaceMemory::new());
+//!
+//! let objects = [SceneObject {
+//!     mesh: OCTAHEDRON,
+//!     color: Rgb888::new(220, 170, 120),
+//!     transform: Transform::default(),
+//!     cull_backfaces: true,
+//!     shading: Shading::Gouraud,
+//! }];
+//! let scene = Scene {
+//!     width: 64,
+//!     height: 48,
+//!     background: Rgb888::new(16, 18, 28),
+//!     camera: Camera {
+//!         eye: [Coord::ZERO, Coord::ONE, Coord::from_num(4)],
+//!         target: [Coord::ZERO; 3],
+//!         up: [Coord::ZERO, Coord::ONE, Coord::ZERO],
+//!         fov_y_deg: Coord::from_num(40),
+//!         near: Coord::ONE,
+//!         far: Coord::from_num(10),
+//!     },
+//!     light: None,
+//!     objects: &objects,
+//! };
+//!
+//! let buffer = FRAGMENTS.take().buffer(OverflowPolicy::SplitBands);
+//! let mut renderer = Renderer::new(WORKSPACE.take().workspace(), buffer);
+//! let mut rgb = [0u8; 64 * 48 * 3];
+//! let stats = renderer
+//!     .render(&scene, &FrameOptions::default(), &mut ImageSink::new(64, &mut rgb))
+//!     .expect("the scene fits the workspace");
+//! assert_eq!(stats.geometry.triangles_in, 8);
+//! // The octahedron's center pixel has its color, the corner the background.
+//! let center = (24 * 64 + 32) * 3;
+//! assert_ne!(rgb[center..center + 3], [16, 18, 28]);
+//! assert_eq!(rgb[..3], [16, 18, 28]);
+//! ```
+//!
+//! The sizes say what the statics cost: `FragmentMemory::<..>::BYTES`,
+//! `WorkspaceMemory::<..>::BYTES`; `host-sim fit` checks a configuration
+//! against a board's SRAM. The `firmware/blackpill` crate is a complete board
+//! firmware (ST7789 display, DMA band streaming).
 #![cfg_attr(not(test), no_std)]
 #![warn(missing_docs)]
 // Matrix and per-channel arithmetic reads best with explicit indices.
@@ -31,6 +97,7 @@ pub mod fragment;
 pub mod fragment_buffer;
 pub mod geometry;
 pub mod lighting;
+pub mod memory;
 pub mod merge;
 pub mod pool;
 pub mod raster;
@@ -50,7 +117,7 @@ pub use band_buffer::BandBuffer;
 pub use coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 pub use fragment::{Fragment, PackedFragment};
 pub use fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
-pub use renderer::{render_frame, FrameOptions, FrameWorkspace, RenderError};
+pub use renderer::{render_frame, FrameOptions, FrameWorkspace, RenderError, Renderer};
 pub use scene::{Camera, Light, Mesh, Scene, SceneObject, Shading, Transform};
 pub use sink::{DrawTargetSink, ImageSink, LineSink};
 pub use stats::FrameStats;

@@ -217,6 +217,107 @@ fn check<E>(part: WorkspacePart, needed: usize, available: usize) -> Result<(), 
     }
 }
 
+/// Draws scenes: a frame workspace and a band buffer, borrowed for as long as
+/// the renderer lives (on a device, from `static`s made with
+/// [`crate::memory`]).
+///
+/// ```
+/// use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory};
+/// use mcu_abuffer::{FrameOptions, ImageSink, Mask4x4, OverflowPolicy, Renderer};
+/// # use mcu_abuffer::fixed_point::Coord;
+/// # use mcu_abuffer::scene::*;
+/// # use embedded_graphics_core::pixelcolor::Rgb888;
+/// # let objects = [SceneObject { mesh: OCTAHEDRON, color: Rgb888::new(200, 120, 60),
+/// #     transform: Transform::default(), cull_backfaces: true, shading: Shading::Gouraud }];
+/// # let scene = Scene { width: 32, height: 24, background: Rgb888::new(0, 0, 0),
+/// #     camera: Camera { eye: [Coord::ZERO, Coord::ONE, Coord::from_num(4)],
+/// #         target: [Coord::ZERO; 3], up: [Coord::ZERO, Coord::ONE, Coord::ZERO],
+/// #         fov_y_deg: Coord::from_num(40), near: Coord::ONE, far: Coord::from_num(10) },
+/// #     light: None, objects: &objects };
+///
+/// let mut fragments = Box::new(FragmentMemory::<Mask4x4, 32, 8, 1, 2, 64>::new());
+/// let mut workspace = Box::new(WorkspaceMemory::<32, 24, 1, 8, 12>::new());
+/// let mut renderer = Renderer::new(
+///     workspace.workspace(),
+///     fragments.buffer(OverflowPolicy::SplitBands),
+/// );
+/// let mut rgb = [0u8; 32 * 24 * 3];
+/// let stats = renderer
+///     .render(&scene, &FrameOptions::default(), &mut ImageSink::new(32, &mut rgb))
+///     .unwrap();
+/// assert!(stats.buffer.fragments_stored > 0);
+/// ```
+pub struct Renderer<'m, M: CoverageMask, B: BandBuffer<M>> {
+    workspace: FrameWorkspace<'m>,
+    buffer: B,
+    mask: core::marker::PhantomData<M>,
+}
+
+impl<'m, M: CoverageMask, B: BandBuffer<M>> Renderer<'m, M, B> {
+    /// A renderer working in `workspace` and `buffer`.
+    pub fn new(workspace: FrameWorkspace<'m>, buffer: B) -> Self {
+        Self {
+            workspace,
+            buffer,
+            mask: core::marker::PhantomData,
+        }
+    }
+
+    /// Renders one frame of `scene` into `sink`, line by line from the top.
+    /// A scene larger than the workspace or wider than the buffer is refused
+    /// with the part that is too small; nothing is drawn then.
+    pub fn render<S: LineSink>(
+        &mut self,
+        scene: &Scene<'_>,
+        options: &FrameOptions,
+        sink: &mut S,
+    ) -> Result<FrameStats, RenderError<S::Error>> {
+        render_frame(
+            scene,
+            options,
+            &mut self.workspace,
+            &mut self.buffer,
+            sink,
+            |_, _, _| {},
+        )
+    }
+
+    /// As [`Self::render`], calling `on_band(y0, rows, buffer)` after each
+    /// band's fragments are in and before it is resolved (depth-complexity
+    /// maps, per-band statistics).
+    pub fn render_observed<S: LineSink, F: FnMut(u16, u16, &B)>(
+        &mut self,
+        scene: &Scene<'_>,
+        options: &FrameOptions,
+        sink: &mut S,
+        on_band: F,
+    ) -> Result<FrameStats, RenderError<S::Error>> {
+        render_frame(
+            scene,
+            options,
+            &mut self.workspace,
+            &mut self.buffer,
+            sink,
+            on_band,
+        )
+    }
+
+    /// The band buffer (its configuration and statistics).
+    pub fn buffer(&self) -> &B {
+        &self.buffer
+    }
+
+    /// The band buffer, mutably (to wrap or reconfigure it between frames).
+    pub fn buffer_mut(&mut self) -> &mut B {
+        &mut self.buffer
+    }
+
+    /// The workspace and the buffer back.
+    pub fn into_parts(self) -> (FrameWorkspace<'m>, B) {
+        (self.workspace, self.buffer)
+    }
+}
+
 /// Renders one frame of `scene` band by band through `buffer` into `sink`.
 ///
 /// `on_band(y0, rows, buffer)` is called after each band's fragments are in, before

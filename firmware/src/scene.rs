@@ -126,6 +126,47 @@ pub struct Scene<'a> {
     pub objects: &'a [SceneObject<'a>],
 }
 
+/// A regular octahedron of radius 1 about the origin (6 vertices, 8
+/// triangles, normals pointing out from the center): a closed mesh for a first
+/// frame and for examples.
+pub const OCTAHEDRON: Mesh<'static> = {
+    const O: Coord = Coord::ZERO;
+    const P: Coord = Coord::ONE;
+    const N: Coord = Coord::lit("-1");
+    const OX: I2F14 = I2F14::ZERO;
+    const PX: I2F14 = I2F14::ONE;
+    const NX: I2F14 = I2F14::lit("-1");
+    Mesh {
+        positions: &[
+            [P, O, O],
+            [N, O, O],
+            [O, P, O],
+            [O, N, O],
+            [O, O, P],
+            [O, O, N],
+        ],
+        normals: &[
+            [PX, OX, OX],
+            [NX, OX, OX],
+            [OX, PX, OX],
+            [OX, NX, OX],
+            [OX, OX, PX],
+            [OX, OX, NX],
+        ],
+        // Counter-clockwise seen from outside.
+        triangles: &[
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ],
+    }
+};
+
 /// The largest image side the renderer accepts (window coordinates must stay
 /// well inside the guard band).
 pub const MAX_IMAGE_SIDE: u16 = 2048;

@@ -1,6 +1,7 @@
 //! The ST7789 link of the Black Pill: SPI1 as a transmit-only master, commands by
 //! polling, pixel data by DMA2 stream 3 (channel 3 is SPI1_TX on the F411).
 
+use crate::flushing_spi::{wait_idle, Spi1};
 use abuffer_panel::link::PanelLink;
 use core::sync::atomic::{compiler_fence, Ordering};
 use embedded_hal::digital::OutputPin;
@@ -8,42 +9,7 @@ use embedded_hal::spi::SpiBus;
 use stm32f4xx_hal::dma::traits::{Stream, StreamISR};
 use stm32f4xx_hal::dma::{DmaChannel, DmaDataSize, DmaDirection, Stream3};
 use stm32f4xx_hal::pac::{DMA2, SPI1};
-use stm32f4xx_hal::spi::{self, Spi};
-
-/// SPI1 in transmit-only (bidirectional output) mode, 8-bit frames.
-pub type Spi1 = Spi<SPI1, true, u8>;
-
-/// SPI1 whose `flush` waits until the last bit has left the shift register (the
-/// HAL's returns at once), so chip select and data/command change only between
-/// bytes. mipidsi's initialization runs through it.
-pub struct FlushingSpi<'a>(pub &'a mut Spi1);
-
-impl embedded_hal::spi::ErrorType for FlushingSpi<'_> {
-    type Error = spi::Error;
-}
-
-impl SpiBus<u8> for FlushingSpi<'_> {
-    fn read(&mut self, words: &mut [u8]) -> Result<(), spi::Error> {
-        SpiBus::read(self.0, words)
-    }
-    fn write(&mut self, words: &[u8]) -> Result<(), spi::Error> {
-        SpiBus::write(self.0, words)
-    }
-    fn transfer(&mut self, read: &mut [u8], write: &[u8]) -> Result<(), spi::Error> {
-        SpiBus::transfer(self.0, read, write)
-    }
-    fn transfer_in_place(&mut self, words: &mut [u8]) -> Result<(), spi::Error> {
-        SpiBus::transfer_in_place(self.0, words)
-    }
-    fn flush(&mut self) -> Result<(), spi::Error> {
-        wait_idle(self.0);
-        Ok(())
-    }
-}
-
-fn wait_idle(spi: &Spi1) {
-    while !spi.is_tx_empty() || spi.is_busy() {}
-}
+use stm32f4xx_hal::spi;
 
 /// Error of [`DmaPanelLink`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, defmt::Format)]

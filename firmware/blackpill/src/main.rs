@@ -12,21 +12,24 @@
 #![no_main]
 
 mod dma_link;
+mod flushing_spi;
 
 use abuffer_panel::demo::{defaults, render_turntable_frame, DemoSchedule, FrameRate};
 use abuffer_panel::stream::BandStream;
-use core::sync::atomic::{AtomicBool, Ordering};
 use cortex_m_rt::entry;
 use defmt_rtt as _;
-use dma_link::{DmaPanelLink, FlushingSpi};
-use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+use dma_link::DmaPanelLink;
+use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_hal_bus::spi::ExclusiveDevice;
+use flushing_spi::FlushingSpi;
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::PackedFragment;
-use mcu_abuffer::renderer::{FrameWorkspace, ObjectFrame, ScreenVertex};
+use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory};
+use mcu_abuffer::renderer::{ObjectFrame, ScreenVertex};
 use mcu_abuffer::stack::painted_stack_use;
-use mcu_abuffer::{BufferConfig, BufferStorage, FragmentBuffer, Mask4x4, OverflowPolicy};
+use mcu_abuffer::{Mask4x4, OverflowPolicy};
 use panic_probe as _;
+use static_cell::ConstStaticCell;
 use stm32f4xx_hal::dma::StreamsTuple;
 use stm32f4xx_hal::gpio::Speed;
 use stm32f4xx_hal::pac;
@@ -64,51 +67,14 @@ const RATE_WINDOW: u32 = 4;
 const PIXELS: usize = WIDTH * BAND;
 const BAND_BYTES: usize = PIXELS * 2;
 
-static mut COUNTS: [u8; PIXELS] = [0; PIXELS];
-static mut MAIN_SLOTS: [PackedFragment<Mask4x4>; PIXELS * MAIN] =
-    [PackedFragment::EMPTY; PIXELS * MAIN];
-static mut ADDRESSES: [u16; PIXELS * EXTRA] = [0; PIXELS * EXTRA];
-static mut POOL_SLOTS: [PackedFragment<Mask4x4>; POOL] = [PackedFragment::EMPTY; POOL];
-static mut BAND_A: [u8; BAND_BYTES] = [0; BAND_BYTES];
-static mut BAND_B: [u8; BAND_BYTES] = [0; BAND_BYTES];
-
-static mut WS_OBJECTS: [ObjectFrame; OBJECTS] = [ObjectFrame::EMPTY; OBJECTS];
-static mut WS_VERTICES: [ScreenVertex; VERTICES] = [ScreenVertex::EMPTY; VERTICES];
-static mut WS_ROWS: [u16; TRIANGLES] = [0; TRIANGLES];
-static mut WS_ORDER: [u32; TRIANGLES] = [0; TRIANGLES];
-static mut WS_ROW_STARTS: [u32; HEIGHT + 1] = [0; HEIGHT + 1];
-static mut WS_LINE: [Rgb888; WIDTH] = [Rgb888::BLACK; WIDTH];
-
-/// Hands out the static buffers once.
-fn take_statics() -> (
-    FrameWorkspace<'static>,
-    BufferStorage<'static, Mask4x4, u16>,
-    [&'static mut [u8]; 2],
-) {
-    static TAKEN: AtomicBool = AtomicBool::new(false);
-    assert!(!TAKEN.swap(true, Ordering::Relaxed), "statics taken twice");
-    // SAFETY: the guard above makes these the only references to the statics.
-    unsafe {
-        use core::ptr::addr_of_mut;
-        (
-            FrameWorkspace {
-                objects: &mut *addr_of_mut!(WS_OBJECTS),
-                vertices: &mut *addr_of_mut!(WS_VERTICES),
-                triangle_rows: &mut *addr_of_mut!(WS_ROWS),
-                triangle_order: &mut *addr_of_mut!(WS_ORDER),
-                row_starts: &mut *addr_of_mut!(WS_ROW_STARTS),
-                line: &mut *addr_of_mut!(WS_LINE),
-            },
-            BufferStorage {
-                counts: &mut *addr_of_mut!(COUNTS),
-                main: &mut *addr_of_mut!(MAIN_SLOTS),
-                addresses: &mut *addr_of_mut!(ADDRESSES),
-                pool: &mut *addr_of_mut!(POOL_SLOTS),
-            },
-            [&mut *addr_of_mut!(BAND_A), &mut *addr_of_mut!(BAND_B)],
-        )
-    }
-}
+/// The renderer's memory: the band's fragments and the frame's workspace.
+static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, WIDTH, BAND, MAIN, EXTRA, POOL>> =
+    ConstStaticCell::new(FragmentMemory::new());
+static WORKSPACE: ConstStaticCell<WorkspaceMemory<WIDTH, HEIGHT, OBJECTS, VERTICES, TRIANGLES>> =
+    ConstStaticCell::new(WorkspaceMemory::new());
+/// Two bands of RGB565 bytes: one is sent by DMA while the other renders.
+static BAND_A: ConstStaticCell<[u8; BAND_BYTES]> = ConstStaticCell::new([0; BAND_BYTES]);
+static BAND_B: ConstStaticCell<[u8; BAND_BYTES]> = ConstStaticCell::new([0; BAND_BYTES]);
 
 #[entry]
 fn main() -> ! {
@@ -177,19 +143,9 @@ fn main() -> ! {
 
     let streams = StreamsTuple::new(dp.DMA2, &mut rcc);
     let link = DmaPanelLink::new(spi, cs, dc, streams.3);
-    let (mut workspace, storage, bands) = take_statics();
-    let buffer_config = BufferConfig {
-        width: WIDTH as u16,
-        band_height: BAND as u16,
-        main_slots: MAIN as u8,
-        extra_addresses: EXTRA as u8,
-        policy: OverflowPolicy::MergeFarthest,
-    };
-    let mut buffer: FragmentBuffer<'static, Mask4x4, u16> =
-        match FragmentBuffer::new(buffer_config, storage) {
-            Ok(buffer) => buffer,
-            Err(e) => defmt::panic!("fragment buffer: {}", defmt::Debug2Format(&e)),
-        };
+    let mut workspace = WORKSPACE.take().workspace();
+    let mut buffer = FRAGMENTS.take().buffer(OverflowPolicy::SplitBands);
+    let bands: [&'static mut [u8]; 2] = [BAND_A.take(), BAND_B.take()];
     let mut stream = match BandStream::new(link, WIDTH as u16, HEIGHT as u16, bands) {
         Ok(stream) => stream,
         Err(e) => defmt::panic!("band stream: {}", defmt::Debug2Format(&e)),

@@ -5,13 +5,14 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_rt::exception;
 use cortex_m_semihosting::{debug, hio};
-use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+use embedded_graphics_core::pixelcolor::Rgb888;
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1};
 use mcu_abuffer::fragment::PackedFragment;
-use mcu_abuffer::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
+use mcu_abuffer::fragment_buffer::OverflowPolicy;
+use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory, ZBufferMemory};
 use mcu_abuffer::renderer::{FrameWorkspace, ObjectFrame, ScreenVertex};
-use mcu_abuffer::zbuffer::ZBuffer;
+use static_cell::ConstStaticCell;
 
 /// Which kind of pixel memory a build uses (the build picks one; the other is dead).
 #[allow(dead_code)]
@@ -81,31 +82,35 @@ pub fn ticks() -> u64 {
     }
 }
 
-const ABUF_PIXELS: usize = if matches!(METHOD, Method::ABuffer) {
-    WIDTH * BAND
-} else {
-    0
-};
-const ZBUF_PIXELS: usize = if matches!(METHOD, Method::ZBuffer) {
-    WIDTH * BAND
-} else {
-    0
-};
+/// The unused kind of pixel memory shrinks to one pixel (the memory types
+/// reject empty bands when the firmware compiles).
+const fn if_used(used: bool, size: usize) -> usize {
+    if used {
+        size
+    } else {
+        1
+    }
+}
+const ABUF: bool = matches!(METHOD, Method::ABuffer);
+const ZBUF: bool = matches!(METHOD, Method::ZBuffer);
 
-static mut COUNTS: [u8; ABUF_PIXELS] = [0; ABUF_PIXELS];
-static mut MAIN_SLOTS: [PackedFragment<Mask>; ABUF_PIXELS * MAIN] =
-    [PackedFragment::EMPTY; ABUF_PIXELS * MAIN];
-static mut ADDRESSES: [u16; ABUF_PIXELS * EXTRA] = [0; ABUF_PIXELS * EXTRA];
-static mut POOL_SLOTS: [PackedFragment<Mask>; POOL] = [PackedFragment::EMPTY; POOL];
-static mut DEPTHS: [u32; ZBUF_PIXELS] = [0; ZBUF_PIXELS];
-static mut COLORS: [Rgb888; ZBUF_PIXELS] = [Rgb888::BLACK; ZBUF_PIXELS];
+/// The A-buffer's band (only the z-buffer builds leave it at one pixel).
+type Fragments = FragmentMemory<
+    Mask,
+    { if_used(ABUF, WIDTH) },
+    { if_used(ABUF, BAND) },
+    { if_used(ABUF, MAIN) },
+    EXTRA,
+    POOL,
+>;
+/// The z-buffer's band (one pixel in the A-buffer builds).
+type Depths = ZBufferMemory<{ if_used(ZBUF, WIDTH) }, { if_used(ZBUF, BAND) }>;
 
-static mut WS_OBJECTS: [ObjectFrame; OBJECTS_LEN] = [ObjectFrame::EMPTY; OBJECTS_LEN];
-static mut WS_VERTICES: [ScreenVertex; VERTICES] = [ScreenVertex::EMPTY; VERTICES];
-static mut WS_ROWS: [u16; TRIANGLES] = [0; TRIANGLES];
-static mut WS_ORDER: [u32; TRIANGLES] = [0; TRIANGLES];
-static mut WS_ROW_STARTS: [u32; HEIGHT + 1] = [0; HEIGHT + 1];
-static mut WS_LINE: [Rgb888; WIDTH] = [Rgb888::BLACK; WIDTH];
+static FRAGMENTS: ConstStaticCell<Fragments> = ConstStaticCell::new(Fragments::new());
+static DEPTHS: ConstStaticCell<Depths> = ConstStaticCell::new(Depths::new());
+static WORKSPACE: ConstStaticCell<
+    WorkspaceMemory<WIDTH, HEIGHT, OBJECTS_LEN, VERTICES, TRIANGLES>,
+> = ConstStaticCell::new(WorkspaceMemory::new());
 
 /// Work to do with the frame workspace and the build's band buffer.
 pub trait WithBuffers {
@@ -115,61 +120,17 @@ pub trait WithBuffers {
 
 /// Lends the static workspace and band buffer to `work`. Call once.
 pub fn with_buffers<W: WithBuffers>(work: W) {
-    static TAKEN: AtomicU32 = AtomicU32::new(0);
-    if TAKEN.swap(1, Ordering::Relaxed) != 0 {
+    let (Some(workspace), Some(fragments), Some(depths)) = (
+        WORKSPACE.try_take(),
+        FRAGMENTS.try_take(),
+        DEPTHS.try_take(),
+    ) else {
         fail("static buffers lent twice");
-    }
-    // SAFETY: the guard above makes this the only borrow of each static, for the
-    // rest of the program.
-    let mut ws = unsafe {
-        FrameWorkspace {
-            objects: &mut *core::ptr::addr_of_mut!(WS_OBJECTS),
-            vertices: &mut *core::ptr::addr_of_mut!(WS_VERTICES),
-            triangle_rows: &mut *core::ptr::addr_of_mut!(WS_ROWS),
-            triangle_order: &mut *core::ptr::addr_of_mut!(WS_ORDER),
-            row_starts: &mut *core::ptr::addr_of_mut!(WS_ROW_STARTS),
-            line: &mut *core::ptr::addr_of_mut!(WS_LINE),
-        }
     };
+    let mut ws = workspace.workspace();
     match METHOD {
-        Method::ABuffer => {
-            let config = BufferConfig {
-                width: WIDTH as u16,
-                band_height: BAND as u16,
-                main_slots: MAIN as u8,
-                extra_addresses: EXTRA as u8,
-                policy: POLICY,
-            };
-            // SAFETY: as above.
-            let storage = unsafe {
-                BufferStorage {
-                    counts: &mut *core::ptr::addr_of_mut!(COUNTS),
-                    main: &mut *core::ptr::addr_of_mut!(MAIN_SLOTS),
-                    addresses: &mut *core::ptr::addr_of_mut!(ADDRESSES),
-                    pool: &mut *core::ptr::addr_of_mut!(POOL_SLOTS),
-                }
-            };
-            let mut buffer: FragmentBuffer<'_, Mask, u16> =
-                match FragmentBuffer::new(config, storage) {
-                    Ok(b) => b,
-                    Err(_) => fail("fragment buffer configuration rejected"),
-                };
-            work.run(&mut buffer, &mut ws);
-        }
-        Method::ZBuffer => {
-            // SAFETY: as above.
-            let (depth, color) = unsafe {
-                (
-                    &mut *core::ptr::addr_of_mut!(DEPTHS),
-                    &mut *core::ptr::addr_of_mut!(COLORS),
-                )
-            };
-            let mut buffer = match ZBuffer::new(WIDTH as u16, BAND as u16, depth, color) {
-                Some(b) => b,
-                None => fail("z-buffer configuration rejected"),
-            };
-            work.run::<Mask1x1, _>(&mut buffer, &mut ws);
-        }
+        Method::ABuffer => work.run(&mut fragments.buffer(POLICY), &mut ws),
+        Method::ZBuffer => work.run::<Mask1x1, _>(&mut depths.buffer(), &mut ws),
     }
 }
 

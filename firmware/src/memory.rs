@@ -1,0 +1,344 @@
+//! Memory for a renderer, sized by const generics, that a firmware places in
+//! `static`s without `unsafe`.
+//!
+//! The renderer borrows all its memory ([`FrameWorkspace`], [`BufferStorage`]).
+//! The types here own arrays of the right lengths, have `const fn new()`, so
+//! they can initialize a `static` (a [`static_cell::ConstStaticCell`] hands
+//! out the `&'static mut` once, with no copy through the stack), and lend their
+//! arrays to a [`FragmentBuffer`], a [`ZBuffer`] or a [`FrameWorkspace`]. Sizes
+//! that cannot be represented are rejected when the firmware compiles.
+//!
+//! [`static_cell::ConstStaticCell`]: https://docs.rs/static_cell
+//!
+//! ```
+//! use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory};
+//! use mcu_abuffer::{Mask4x4, OverflowPolicy, Renderer};
+//!
+//! // 240x240, 8-row bands, 1 slot and 2 pool addresses per pixel, 512 pool
+//! // slots; scenes of up to 2 objects, 600 vertices and 1,000 triangles.
+//! type Fragments = FragmentMemory<Mask4x4, 240, 8, 1, 2, 512>;
+//! type Workspace = WorkspaceMemory<240, 240, 2, 600, 1000>;
+//! // Per pixel a 14-byte slot, two 2-byte addresses and a count byte; 512
+//! // pool slots of 14 bytes: 240 * 8 * 19 + 512 * 14 bytes.
+//! assert_eq!(Fragments::BYTES, 43_648);
+//! // 600 screen vertices of 16 bytes, 6 bytes per triangle (its rows and its
+//! // place in the drawing order), 241 row counters, one line of colors, and
+//! // per object its transform.
+//! assert!(Workspace::BYTES > 600 * 16 + 1000 * 6 + 241 * 4 + 240 * 3);
+//! assert!(Workspace::BYTES < 18 * 1024);
+//!
+//! // On a device these are `static`s (see the crate documentation).
+//! let mut fragments = Box::new(Fragments::new());
+//! let mut workspace = Box::new(Workspace::new());
+//! let buffer = fragments.buffer(OverflowPolicy::SplitBands);
+//! let renderer = Renderer::new(workspace.workspace(), buffer);
+//! assert_eq!(renderer.buffer().config().band_height, 8);
+//! ```
+
+use crate::coverage::CoverageMask;
+use crate::fragment::PackedFragment;
+use crate::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
+use crate::renderer::{FrameWorkspace, ObjectFrame, ScreenVertex};
+use crate::zbuffer::ZBuffer;
+use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+
+/// The pool address type of [`FragmentMemory`]: 16 bits, so at most 65,535
+/// pool slots.
+pub type PoolIndex = u16;
+
+/// The fragment memory of one band for a [`FragmentBuffer`]: `WIDTH` pixels by
+/// `BAND` rows, each with `MAIN` fragment slots and `EXTRA` addresses into a
+/// shared pool of `POOL` slots (SPEC section 4's `N_main`, `N_extra`, `N_pool`).
+///
+/// Compiling `new` fails when a size cannot be represented: `WIDTH` or `BAND`
+/// zero or above 65,535, `MAIN` zero, `MAIN + EXTRA` above 255, `POOL` above
+/// 65,535.
+pub struct FragmentMemory<
+    M: CoverageMask,
+    const WIDTH: usize,
+    const BAND: usize,
+    const MAIN: usize,
+    const EXTRA: usize,
+    const POOL: usize,
+> {
+    counts: [[u8; WIDTH]; BAND],
+    main: [[[PackedFragment<M>; MAIN]; WIDTH]; BAND],
+    addresses: [[[PoolIndex; EXTRA]; WIDTH]; BAND],
+    pool: [PackedFragment<M>; POOL],
+}
+
+impl<
+        M: CoverageMask,
+        const WIDTH: usize,
+        const BAND: usize,
+        const MAIN: usize,
+        const EXTRA: usize,
+        const POOL: usize,
+    > FragmentMemory<M, WIDTH, BAND, MAIN, EXTRA, POOL>
+{
+    /// Evaluated by `new`: a size out of range stops the build.
+    const SIZES_FIT: () = {
+        assert!(
+            WIDTH >= 1 && WIDTH <= u16::MAX as usize,
+            "WIDTH must be 1..=65535"
+        );
+        assert!(
+            BAND >= 1 && BAND <= u16::MAX as usize,
+            "BAND must be 1..=65535"
+        );
+        assert!(
+            MAIN >= 1,
+            "MAIN (fragment slots per pixel) must be at least 1"
+        );
+        assert!(
+            MAIN + EXTRA <= u8::MAX as usize,
+            "MAIN + EXTRA must be at most 255"
+        );
+        assert!(
+            POOL <= PoolIndex::MAX as usize,
+            "POOL must be at most 65535"
+        );
+    };
+
+    /// Bytes this memory occupies (the seed's `M_shared` plus one count byte
+    /// per pixel).
+    pub const BYTES: usize = core::mem::size_of::<Self>();
+
+    /// Empty memory (all zero, so a `static` of it lands in `.bss`).
+    pub const fn new() -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::SIZES_FIT;
+        Self {
+            counts: [[0; WIDTH]; BAND],
+            main: [[[PackedFragment::EMPTY; MAIN]; WIDTH]; BAND],
+            addresses: [[[0; EXTRA]; WIDTH]; BAND],
+            pool: [PackedFragment::EMPTY; POOL],
+        }
+    }
+
+    /// The buffer configuration these sizes make, with `policy` on overflow.
+    pub const fn config(policy: OverflowPolicy) -> BufferConfig {
+        BufferConfig {
+            width: WIDTH as u16,
+            band_height: BAND as u16,
+            main_slots: MAIN as u8,
+            extra_addresses: EXTRA as u8,
+            policy,
+        }
+    }
+
+    /// A fragment buffer over this memory, handling overflow by `policy`.
+    pub fn buffer(&mut self, policy: OverflowPolicy) -> FragmentBuffer<'_, M, PoolIndex> {
+        let storage = BufferStorage {
+            counts: self.counts.as_flattened_mut(),
+            main: self.main.as_flattened_mut().as_flattened_mut(),
+            addresses: self.addresses.as_flattened_mut().as_flattened_mut(),
+            pool: &mut self.pool,
+        };
+        match FragmentBuffer::new(Self::config(policy), storage) {
+            Ok(buffer) => buffer,
+            // The lengths come from the same constants as the configuration,
+            // and `SIZES_FIT` holds: the buffer accepts them.
+            Err(_) => unreachable!("storage sized by the configuration's own constants"),
+        }
+    }
+}
+
+impl<
+        M: CoverageMask,
+        const WIDTH: usize,
+        const BAND: usize,
+        const MAIN: usize,
+        const EXTRA: usize,
+        const POOL: usize,
+    > Default for FragmentMemory<M, WIDTH, BAND, MAIN, EXTRA, POOL>
+{
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The memory of one band for a [`ZBuffer`] (no antialiasing): a depth and a
+/// color per pixel, `WIDTH` by `BAND`.
+pub struct ZBufferMemory<const WIDTH: usize, const BAND: usize> {
+    depth: [[u32; WIDTH]; BAND],
+    color: [[Rgb888; WIDTH]; BAND],
+}
+
+impl<const WIDTH: usize, const BAND: usize> ZBufferMemory<WIDTH, BAND> {
+    /// Evaluated by `new`: a size out of range stops the build.
+    const SIZES_FIT: () = {
+        assert!(
+            WIDTH >= 1 && WIDTH <= u16::MAX as usize,
+            "WIDTH must be 1..=65535"
+        );
+        assert!(
+            BAND >= 1 && BAND <= u16::MAX as usize,
+            "BAND must be 1..=65535"
+        );
+    };
+
+    /// Bytes this memory occupies.
+    pub const BYTES: usize = core::mem::size_of::<Self>();
+
+    /// Empty memory.
+    pub const fn new() -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::SIZES_FIT;
+        Self {
+            depth: [[0; WIDTH]; BAND],
+            color: [[Rgb888::BLACK; WIDTH]; BAND],
+        }
+    }
+
+    /// A z-buffer over this memory.
+    pub fn buffer(&mut self) -> ZBuffer<'_> {
+        match ZBuffer::new(
+            WIDTH as u16,
+            BAND as u16,
+            self.depth.as_flattened_mut(),
+            self.color.as_flattened_mut(),
+        ) {
+            Some(buffer) => buffer,
+            None => unreachable!("storage sized by the buffer's own constants"),
+        }
+    }
+}
+
+impl<const WIDTH: usize, const BAND: usize> Default for ZBufferMemory<WIDTH, BAND> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// `HEIGHT + 1` row counters in one array (what the counting sort by first
+/// row needs), without asking the user for `HEIGHT + 1` as a parameter.
+#[repr(C)]
+struct RowStarts<const HEIGHT: usize> {
+    rows: [u32; HEIGHT],
+    end: u32,
+}
+
+impl<const HEIGHT: usize> RowStarts<HEIGHT> {
+    fn as_mut_slice(&mut self) -> &mut [u32] {
+        // SAFETY: `repr(C)` lays out `rows` and then `end` with no padding
+        // between them (both are `u32`-aligned and `rows` is a whole number of
+        // `u32`s), so the struct is `HEIGHT + 1` consecutive `u32`s; the
+        // slice borrows `self` mutably for its whole life.
+        unsafe { core::slice::from_raw_parts_mut((self as *mut Self).cast::<u32>(), HEIGHT + 1) }
+    }
+}
+
+const _: () = assert!(core::mem::size_of::<RowStarts<7>>() == 8 * 4);
+
+/// The working memory of a frame ([`FrameWorkspace`]) for images of `WIDTH` by
+/// `HEIGHT` pixels and scenes of at most `OBJECTS` objects, `VERTICES`
+/// vertices and `TRIANGLES` triangles (over all objects). A scene that needs
+/// more is refused by [`Renderer::render`](crate::Renderer::render) with
+/// [`RenderError::Workspace`](crate::RenderError::Workspace), naming the part.
+pub struct WorkspaceMemory<
+    const WIDTH: usize,
+    const HEIGHT: usize,
+    const OBJECTS: usize,
+    const VERTICES: usize,
+    const TRIANGLES: usize,
+> {
+    objects: [ObjectFrame; OBJECTS],
+    vertices: [ScreenVertex; VERTICES],
+    triangle_rows: [u16; TRIANGLES],
+    triangle_order: [u32; TRIANGLES],
+    row_starts: RowStarts<HEIGHT>,
+    line: [Rgb888; WIDTH],
+}
+
+impl<
+        const WIDTH: usize,
+        const HEIGHT: usize,
+        const OBJECTS: usize,
+        const VERTICES: usize,
+        const TRIANGLES: usize,
+    > WorkspaceMemory<WIDTH, HEIGHT, OBJECTS, VERTICES, TRIANGLES>
+{
+    /// Bytes this memory occupies.
+    pub const BYTES: usize = core::mem::size_of::<Self>();
+
+    /// Empty memory.
+    pub const fn new() -> Self {
+        Self {
+            objects: [ObjectFrame::EMPTY; OBJECTS],
+            vertices: [ScreenVertex::EMPTY; VERTICES],
+            triangle_rows: [0; TRIANGLES],
+            triangle_order: [0; TRIANGLES],
+            row_starts: RowStarts {
+                rows: [0; HEIGHT],
+                end: 0,
+            },
+            line: [Rgb888::BLACK; WIDTH],
+        }
+    }
+
+    /// The frame workspace over this memory.
+    pub fn workspace(&mut self) -> FrameWorkspace<'_> {
+        FrameWorkspace {
+            objects: &mut self.objects,
+            vertices: &mut self.vertices,
+            triangle_rows: &mut self.triangle_rows,
+            triangle_order: &mut self.triangle_order,
+            row_starts: self.row_starts.as_mut_slice(),
+            line: &mut self.line,
+        }
+    }
+}
+
+impl<
+        const WIDTH: usize,
+        const HEIGHT: usize,
+        const OBJECTS: usize,
+        const VERTICES: usize,
+        const TRIANGLES: usize,
+    > Default for WorkspaceMemory<WIDTH, HEIGHT, OBJECTS, VERTICES, TRIANGLES>
+{
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Mask4x4;
+
+    #[test]
+    fn byte_counts_follow_the_formula() {
+        type F = FragmentMemory<Mask4x4, 240, 8, 1, 2, 512>;
+        let fragment = PackedFragment::<Mask4x4>::SIZE;
+        let config = F::config(OverflowPolicy::MergeFarthest);
+        assert_eq!(
+            F::BYTES,
+            config.shared_bytes(fragment, 2, 512) + config.pixels()
+        );
+        assert_eq!(ZBufferMemory::<240, 6>::BYTES, 240 * 6 * 8);
+    }
+
+    #[test]
+    fn row_starts_are_height_plus_one() {
+        let mut memory = Box::new(WorkspaceMemory::<16, 12, 1, 3, 1>::new());
+        let ws = memory.workspace();
+        assert_eq!(ws.row_starts.len(), 13);
+        ws.row_starts[12] = 7;
+        assert_eq!(memory.row_starts.end, 7);
+    }
+
+    #[test]
+    fn buffers_take_the_configured_sizes() {
+        let mut memory = Box::new(FragmentMemory::<Mask4x4, 32, 4, 2, 3, 100>::new());
+        let buffer = memory.buffer(OverflowPolicy::SplitBands);
+        assert_eq!(buffer.config().pixel_capacity(), 5);
+        assert_eq!(buffer.pool().capacity(), 100);
+        let mut z = Box::new(ZBufferMemory::<32, 4>::new());
+        assert_eq!(
+            crate::BandBuffer::<crate::Mask1x1>::band_height(&z.buffer()),
+            4
+        );
+    }
+}
