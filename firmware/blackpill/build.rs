@@ -18,6 +18,7 @@ use abuffer_scenes::bake::bake_scene;
 use abuffer_scenes::builtins::builtin_scene;
 use abuffer_scenes::fixed_bits::check_convertible;
 use abuffer_scenes::scene_file::load_scene_file;
+use mcu_abuffer::memory::bytes;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -28,11 +29,8 @@ const RAM_BYTES: usize = 128 * 1024;
 const CODE_RESERVE: usize = 96 * 1024;
 /// RAM kept for statics other than the renderer's (defmt-rtt's buffer, HAL state).
 const OTHER_STATICS: usize = 2 * 1024;
-/// Sizes of the renderer's types (checked against `size_of` in the firmware).
-const SCREEN_VERTEX_BYTES: usize = 16;
-const OBJECT_FRAME_BYTES: usize = 128;
-const COLOR_BYTES: usize = 4;
-const FRAGMENT_BYTES: usize = 14;
+/// Bytes of a 4x4 coverage mask (the board's grid).
+const MASK_BYTES: usize = 2;
 
 fn env(name: &str) -> Option<String> {
     println!("cargo:rerun-if-env-changed={name}");
@@ -145,13 +143,10 @@ fn main() {
     std::fs::write(out.join("scenes.rs"), source).expect("write scenes.rs");
 
     let pixels = width * band;
-    let buffer_bytes =
-        pixels * (1 + main_slots * FRAGMENT_BYTES + extra * 2) + pool * FRAGMENT_BYTES;
-    let workspace_bytes = max_objects * OBJECT_FRAME_BYTES
-        + max_vertices * SCREEN_VERTEX_BYTES
-        + max_triangles * (2 + 4)
-        + (height + 1) * 4
-        + width * COLOR_BYTES;
+    // The library's own byte counts of the statics in src/main.rs.
+    let buffer_bytes = bytes::fragment_memory(MASK_BYTES, width, band, main_slots, extra, pool);
+    let workspace_bytes =
+        bytes::workspace_memory(width, height, max_objects, max_vertices, max_triangles);
     let band_bytes = 2 * pixels * 2;
     let needed = buffer_bytes + workspace_bytes + band_bytes + OTHER_STATICS + stack_reserve;
     if needed > RAM_BYTES {
@@ -174,7 +169,7 @@ fn main() {
          /// Rows per band.\npub const BAND: usize = {band};\n\
          /// Fragment slots and pool addresses per pixel, pool slots.\npub const MAIN: usize = {main_slots};\npub const EXTRA: usize = {extra};\npub const POOL: usize = {pool};\n\
          /// Largest scene.\npub const VERTICES: usize = {max_vertices};\npub const TRIANGLES: usize = {max_triangles};\npub const OBJECTS: usize = {max_objects};\n\
-         /// Sizes the build script assumed.\npub const SCREEN_VERTEX_BYTES: usize = {SCREEN_VERTEX_BYTES};\npub const OBJECT_FRAME_BYTES: usize = {OBJECT_FRAME_BYTES};\npub const COLOR_BYTES: usize = {COLOR_BYTES};\npub const FRAGMENT_BYTES: usize = {FRAGMENT_BYTES};\n\
+         /// Bytes the build script counted for the fragment memory and the workspace.\npub const BUFFER_BYTES: usize = {buffer_bytes};\npub const WORKSPACE_BYTES: usize = {workspace_bytes};\n\
          /// RAM the build script expects the statics to take, bytes.\npub const STATIC_ESTIMATE: usize = {};\n",
         buffer_bytes + workspace_bytes + band_bytes
     );

@@ -23,6 +23,7 @@ use abuffer_scenes::builtins::builtin_scene;
 use abuffer_scenes::fixed_bits::{check_convertible, coord_bits};
 use abuffer_scenes::scene_desc::SceneDesc;
 use abuffer_scenes::scene_file::load_scene_file;
+use mcu_abuffer::memory::bytes;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -58,10 +59,6 @@ const BOARDS: &[Board] = &[
     },
 ];
 
-/// Bytes of the renderer's types, checked against `size_of` in the binaries.
-const SCREEN_VERTEX_BYTES: usize = 16;
-const OBJECT_FRAME_BYTES: usize = 128;
-const COLOR_BYTES: usize = 4;
 /// Flash set aside for code and constants besides the meshes.
 const CODE_RESERVE: usize = 96 * 1024;
 
@@ -178,18 +175,13 @@ fn main() {
     let baked = bake_scene(&desc, &format!("FIRMWARE_SCENE={spec}"));
     let (vertices, triangles) = (baked.vertices, baked.triangles);
     let (w, h) = (desc.width as usize, desc.height as usize);
-    let frag_bytes = mask_bytes + 12;
-    let pixels = w * band;
+    // The library's own byte counts of the statics in src/common.rs.
     let buffer_bytes = if method == "zbuffer" {
-        pixels * (4 + COLOR_BYTES)
+        bytes::zbuffer_memory(w, band)
     } else {
-        pixels * (1 + main * frag_bytes + extra * 2) + pool * frag_bytes
+        bytes::fragment_memory(mask_bytes, w, band, main, extra, pool)
     };
-    let workspace_bytes = desc.objects.len() * OBJECT_FRAME_BYTES
-        + vertices * SCREEN_VERTEX_BYTES
-        + triangles * (2 + 4)
-        + (h + 1) * 4
-        + w * COLOR_BYTES;
+    let workspace_bytes = bytes::workspace_memory(w, h, desc.objects.len(), vertices, triangles);
     let ram_needed = buffer_bytes + workspace_bytes + stack_reserve;
     if ram_needed > board.ram {
         fail(&format!(
@@ -233,7 +225,7 @@ fn main() {
          /// Fragment slots and pool addresses per pixel, pool slots.\npub const MAIN: usize = {main};\npub const EXTRA: usize = {extra};\npub const POOL: usize = {pool};\n\
          /// Scene size.\npub const VERTICES: usize = {vertices};\npub const TRIANGLES: usize = {triangles};\npub const OBJECTS_LEN: usize = {objects};\n\
          /// Turntable frames.\npub const FRAMES: usize = {frames};\n\
-         /// Sizes the build script assumed (checked against the real ones).\npub const SCREEN_VERTEX_BYTES: usize = {SCREEN_VERTEX_BYTES};\npub const OBJECT_FRAME_BYTES: usize = {OBJECT_FRAME_BYTES};\npub const COLOR_BYTES: usize = {COLOR_BYTES};\npub const FRAGMENT_BYTES: usize = {frag_bytes};\n",
+         /// Bytes the build script counted for the band buffer and the workspace (checked against the types).\npub const BUFFER_BYTES: usize = {buffer_bytes};\npub const WORKSPACE_BYTES: usize = {workspace_bytes};\n",
         objects = desc.objects.len(),
     );
     std::fs::write(out.join("config.rs"), config).expect("write config.rs");

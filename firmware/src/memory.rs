@@ -303,6 +303,123 @@ impl<
     }
 }
 
+/// The byte counts of [`FragmentMemory`], [`ZBufferMemory`] and
+/// [`WorkspaceMemory`] for sizes known only when a program runs (build
+/// scripts that check a configuration against a board's SRAM, `host-sim
+/// fit`): each equals the type's `BYTES` for the same sizes, to the byte.
+pub mod bytes {
+    use super::PoolIndex;
+    use crate::renderer::{ObjectFrame, ScreenVertex};
+    use core::mem::{align_of, size_of};
+    use embedded_graphics_core::pixelcolor::Rgb888;
+
+    /// Bytes of one pool address.
+    pub const ADDRESS: usize = size_of::<PoolIndex>();
+    /// Bytes of one transformed vertex.
+    pub const SCREEN_VERTEX: usize = size_of::<ScreenVertex>();
+    /// Bytes of one object's per-frame state.
+    pub const OBJECT_FRAME: usize = size_of::<ObjectFrame>();
+    /// Bytes of one color of the resolved line and of the z-buffer.
+    pub const COLOR: usize = size_of::<Rgb888>();
+    /// Bytes of one triangle's entries in the workspace: its rows (`u16`) and
+    /// its place in the drawing order (`u32`).
+    pub const TRIANGLE: usize = size_of::<u16>() + size_of::<u32>();
+
+    /// Bytes of one stored fragment with a coverage mask of `mask_bytes`
+    /// bytes (the seed's `M_frag`: the mask and three 32-bit words).
+    pub const fn fragment(mask_bytes: usize) -> usize {
+        mask_bytes + 3 * size_of::<u32>()
+    }
+
+    const fn round_up(n: usize, align: usize) -> usize {
+        n.div_ceil(align) * align
+    }
+
+    /// The parts of a [`FragmentMemory`](super::FragmentMemory), in bytes.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub struct FragmentParts {
+        /// Fragment counts, one byte per pixel: `W R`.
+        pub counts: usize,
+        /// Main slots: `W R N_main M_frag`.
+        pub main_slots: usize,
+        /// Pool addresses: `W R N_extra M_addr`.
+        pub addresses: usize,
+        /// The shared pool: `N_pool M_frag`.
+        pub pool: usize,
+    }
+
+    impl FragmentParts {
+        /// The parts for `width` x `band` pixels, `main` slots and `extra`
+        /// addresses per pixel, `pool` pool slots, masks of `mask_bytes`.
+        pub const fn new(
+            mask_bytes: usize,
+            width: usize,
+            band: usize,
+            main: usize,
+            extra: usize,
+            pool: usize,
+        ) -> Self {
+            let pixels = width * band;
+            Self {
+                counts: pixels,
+                main_slots: pixels * main * fragment(mask_bytes),
+                addresses: pixels * extra * ADDRESS,
+                pool: pool * fragment(mask_bytes),
+            }
+        }
+
+        /// The whole memory: the parts and the padding that rounds it to its
+        /// alignment (that of the addresses; fragments are packed bytes).
+        pub const fn total(&self) -> usize {
+            round_up(
+                self.counts + self.main_slots + self.addresses + self.pool,
+                align_of::<super::FragmentMemory<crate::Mask8x8, 1, 1, 1, 1, 1>>(),
+            )
+        }
+
+        /// The padding in [`Self::total`].
+        pub const fn padding(&self) -> usize {
+            self.total() - (self.counts + self.main_slots + self.addresses + self.pool)
+        }
+    }
+
+    /// `FragmentMemory::<M, width, band, main, extra, pool>::BYTES` for masks
+    /// of `mask_bytes` bytes.
+    pub const fn fragment_memory(
+        mask_bytes: usize,
+        width: usize,
+        band: usize,
+        main: usize,
+        extra: usize,
+        pool: usize,
+    ) -> usize {
+        FragmentParts::new(mask_bytes, width, band, main, extra, pool).total()
+    }
+
+    /// `ZBufferMemory::<width, band>::BYTES`: a 32-bit depth and a color per pixel.
+    pub const fn zbuffer_memory(width: usize, band: usize) -> usize {
+        width * band * (size_of::<u32>() + COLOR)
+    }
+
+    /// `WorkspaceMemory::<width, height, objects, vertices, triangles>::BYTES`.
+    pub const fn workspace_memory(
+        width: usize,
+        height: usize,
+        objects: usize,
+        vertices: usize,
+        triangles: usize,
+    ) -> usize {
+        round_up(
+            objects * OBJECT_FRAME
+                + vertices * SCREEN_VERTEX
+                + triangles * TRIANGLE
+                + (height + 1) * size_of::<u32>()
+                + width * COLOR,
+            align_of::<super::WorkspaceMemory<1, 1, 1, 1, 1>>(),
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -318,6 +435,43 @@ mod tests {
             config.shared_bytes(fragment, 2, 512) + config.pixels()
         );
         assert_eq!(ZBufferMemory::<240, 6>::BYTES, 240 * 6 * 8);
+    }
+
+    #[test]
+    fn run_time_byte_counts_equal_the_types() {
+        use crate::{Mask8x4, Mask8x8};
+        assert_eq!(bytes::fragment(2), PackedFragment::<Mask4x4>::SIZE);
+        assert_eq!(bytes::fragment(4), PackedFragment::<Mask8x4>::SIZE);
+        assert_eq!(bytes::fragment(8), PackedFragment::<Mask8x8>::SIZE);
+        assert_eq!(
+            bytes::fragment_memory(2, 240, 8, 1, 2, 512),
+            FragmentMemory::<Mask4x4, 240, 8, 1, 2, 512>::BYTES
+        );
+        // An odd pixel count: padding.
+        assert_eq!(
+            bytes::fragment_memory(2, 7, 3, 1, 3, 5),
+            FragmentMemory::<Mask4x4, 7, 3, 1, 3, 5>::BYTES
+        );
+        assert_eq!(
+            bytes::fragment_memory(8, 64, 6, 2, 0, 0),
+            FragmentMemory::<Mask8x8, 64, 6, 2, 0, 0>::BYTES
+        );
+        assert_eq!(
+            bytes::fragment_memory(4, 33, 5, 3, 4, 100),
+            FragmentMemory::<Mask8x4, 33, 5, 3, 4, 100>::BYTES
+        );
+        assert_eq!(
+            bytes::zbuffer_memory(240, 6),
+            ZBufferMemory::<240, 6>::BYTES
+        );
+        assert_eq!(
+            bytes::workspace_memory(240, 240, 4, 2562, 5120),
+            WorkspaceMemory::<240, 240, 4, 2562, 5120>::BYTES
+        );
+        assert_eq!(
+            bytes::workspace_memory(7, 5, 1, 3, 1),
+            WorkspaceMemory::<7, 5, 1, 3, 1>::BYTES
+        );
     }
 
     #[test]

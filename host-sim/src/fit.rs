@@ -10,17 +10,12 @@
 //!   linker's answer from the ELF.
 
 use crate::convert::to_fixed;
-use crate::qemu::{build_m4, repo_root, FirmwareConfig};
+use crate::memory::{band_memory, fragment_bytes};
+use crate::qemu::{build_m4, FirmwareConfig};
 use crate::render::{render, Grid, Method, RenderConfig};
 use crate::scene_desc::SceneDesc;
-use embedded_graphics_core::pixelcolor::Rgb888;
-use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x4, Mask8x8};
-use mcu_abuffer::fragment::PackedFragment;
-use mcu_abuffer::renderer::{ObjectFrame, ScreenVertex};
+use mcu_abuffer::memory::bytes::{self, FragmentParts, ADDRESS as ADDRESS_BYTES};
 use std::path::Path;
-
-/// Bytes of one pool address on a device (`u16`).
-pub const ADDRESS_BYTES: usize = 2;
 
 /// Arguments of `host-sim fit`.
 #[derive(clap::Args, Debug)]
@@ -88,11 +83,12 @@ pub struct MemoryBudget {
     pub main_slots: usize,
     /// Pool addresses, `W R N_extra M_addr`.
     pub addresses: usize,
-    /// Shared pool, `N_pool M_frag`.
+    /// Shared pool, `N_pool M_frag` (and the padding that aligns the fragment memory).
     pub pool: usize,
-    /// Line buffers: the resolved line and the sink's byte line.
+    /// The sink's line of RGB bytes.
     pub lines: usize,
-    /// Frame workspace: transformed vertices, triangle order, row counts, objects.
+    /// Frame workspace: transformed vertices, triangle order, row counts,
+    /// objects, the resolved line.
     pub workspace: usize,
     /// Stack reserve.
     pub stack: usize,
@@ -111,25 +107,18 @@ impl MemoryBudget {
     }
 }
 
-fn fragment_bytes(grid: Grid) -> usize {
-    fn size<M: CoverageMask>() -> usize {
-        PackedFragment::<M>::SIZE
-    }
-    match grid {
-        Grid::G4x4 => size::<Mask4x4>(),
-        Grid::G8x4 => size::<Mask8x4>(),
-        Grid::G8x8 => size::<Mask8x8>(),
-    }
-}
-
-/// The frame workspace a scene needs on a device (see `mcu_abuffer::renderer::FrameWorkspace`).
+/// The frame workspace a scene needs on a device (`mcu_abuffer::memory::WorkspaceMemory`,
+/// the resolved line included).
 pub fn workspace_bytes(desc: &SceneDesc) -> usize {
     let vertices: usize = desc.objects.iter().map(|o| o.mesh.positions.len()).sum();
     let triangles: usize = desc.objects.iter().map(|o| o.mesh.triangles.len()).sum();
-    desc.objects.len() * std::mem::size_of::<ObjectFrame>()
-        + vertices * std::mem::size_of::<ScreenVertex>()
-        + triangles * (2 + 4)
-        + (desc.height as usize + 1) * 4
+    bytes::workspace_memory(
+        desc.width as usize,
+        desc.height as usize,
+        desc.objects.len(),
+        vertices,
+        triangles,
+    )
 }
 
 /// The analytic budget of `args` for `desc`, with `main`/`extra`/`pool` slots.
@@ -140,14 +129,21 @@ pub fn budget(
     extra: usize,
     pool: usize,
 ) -> MemoryBudget {
-    let pixels = args.width as usize * args.band as usize;
-    let frag = fragment_bytes(args.grid);
+    let mask_bytes = fragment_bytes(args.grid) - bytes::fragment(0);
+    let parts = FragmentParts::new(
+        mask_bytes,
+        args.width as usize,
+        args.band as usize,
+        main,
+        extra,
+        pool,
+    );
     MemoryBudget {
-        counts: pixels,
-        main_slots: pixels * main * frag,
-        addresses: pixels * extra * ADDRESS_BYTES,
-        pool: pool * frag,
-        lines: args.width as usize * (std::mem::size_of::<Rgb888>() + 3),
+        counts: parts.counts,
+        main_slots: parts.main_slots,
+        addresses: parts.addresses,
+        pool: parts.pool + parts.padding(),
+        lines: args.width as usize * 3,
         workspace: workspace_bytes(desc),
         stack: args.stack,
     }
@@ -201,9 +197,17 @@ pub fn run_fit(args: &FitArgs, mut desc: SceneDesc) -> Result<(), String> {
     );
     let fixed_budget = budget(args, &desc, fixed, 0, 0);
     let pixels = args.width as usize * args.band as usize;
-    let m_shared = pixels * (args.main as usize * frag + args.extra as usize * ADDRESS_BYTES)
-        + args.pool * frag;
-    let m_fixed = pixels * fixed * frag;
+    let shared_memory = band_memory(
+        args.width as u16,
+        args.band,
+        args.grid,
+        args.main,
+        args.extra,
+        args.pool,
+    );
+    let m_shared = shared_memory.total_bytes;
+    let m_fixed =
+        band_memory(args.width as u16, args.band, args.grid, fixed as u8, 0, 0).total_bytes;
     println!(
         "{}x{}, band {}, grid {:?} ({frag}-byte fragments, {ADDRESS_BYTES}-byte addresses), scene {}",
         args.width, args.height, args.band, args.grid, args.scene
@@ -264,7 +268,7 @@ pub fn run_fit(args: &FitArgs, mut desc: SceneDesc) -> Result<(), String> {
         std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
         let elf = dir.join("firmware.elf");
         match build_m4(&config, &[], &elf) {
-            Ok(()) => print_link_report(&elf)?,
+            Ok(()) => print_link_report(&elf, &shared)?,
             Err(e) => println!("linker: the firmware build refused these parameters:\n{e}"),
         }
     }
@@ -287,6 +291,27 @@ pub struct LinkReport {
     /// Flash the image takes: vector table, code, read-only data and the
     /// initial values of `.data`.
     pub flash: u64,
+    /// The renderer's statics as linked (0 where a firmware has none).
+    pub renderer: RendererStatics,
+}
+
+/// Sizes of the `static`s that hold the renderer's memory in the firmwares
+/// (`FRAGMENTS`, `DEPTHS`, `WORKSPACE`; each a `ConstStaticCell`, so the
+/// memory plus a taken flag and padding).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RendererStatics {
+    /// The fragment memory (`mcu_abuffer::memory::FragmentMemory`).
+    pub fragments: u64,
+    /// The z-buffer memory (`mcu_abuffer::memory::ZBufferMemory`).
+    pub depths: u64,
+    /// The frame workspace (`mcu_abuffer::memory::WorkspaceMemory`).
+    pub workspace: u64,
+}
+
+/// Whether a `ConstStaticCell` of `linked` bytes holds `analytic` bytes of
+/// memory: its size is the memory, one flag byte and at most 7 bytes of padding.
+pub fn cell_holds(linked: u64, analytic: usize) -> bool {
+    linked > analytic as u64 && linked <= analytic as u64 + 8
 }
 
 /// Reads a cortex-m-rt ELF's RAM use.
@@ -303,6 +328,13 @@ pub fn read_link_report(elf: &Path) -> Result<LinkReport, String> {
     let stack_start =
         symbol("_stack_start").ok_or("no _stack_start symbol (not a cortex-m-rt ELF?)")?;
     let stack_end = symbol("_stack_end").ok_or("no _stack_end symbol")?;
+    // Rust statics are mangled `..<length><NAME>17h<hash>E`.
+    let static_size = |name: &str| {
+        let needle = format!("{}{name}17h", name.len());
+        file.symbols()
+            .find(|s| s.name().is_ok_and(|n| n.contains(&needle)))
+            .map_or(0, |s| s.size())
+    };
     let ram_origin = 0x2000_0000u64;
     Ok(LinkReport {
         data: section(".data"),
@@ -314,10 +346,15 @@ pub fn read_link_report(elf: &Path) -> Result<LinkReport, String> {
             .iter()
             .map(|name| section(name))
             .sum(),
+        renderer: RendererStatics {
+            fragments: static_size("FRAGMENTS"),
+            depths: static_size("DEPTHS"),
+            workspace: static_size("WORKSPACE"),
+        },
     })
 }
 
-fn print_link_report(elf: &Path) -> Result<(), String> {
+fn print_link_report(elf: &Path, analytic: &MemoryBudget) -> Result<(), String> {
     let r = read_link_report(elf)?;
     let statics = r.data + r.bss + r.uninit;
     println!("linker ({}):", elf.display());
@@ -326,6 +363,20 @@ fn print_link_report(elf: &Path) -> Result<(), String> {
         r.data, r.bss, r.uninit, r.ram
     );
     println!("  stack (_stack_start - _stack_end): {} bytes", r.stack);
-    let _ = repo_root();
+    let fragments = analytic.counts + analytic.main_slots + analytic.addresses + analytic.pool;
+    let agree = |linked: u64, counted: usize| {
+        if cell_holds(linked, counted) {
+            "as counted above"
+        } else {
+            "NOT as counted above"
+        }
+    };
+    println!(
+        "  renderer statics: fragment memory {} bytes ({}), workspace {} bytes ({}); each with its cell's flag and padding",
+        r.renderer.fragments,
+        agree(r.renderer.fragments, fragments),
+        r.renderer.workspace,
+        agree(r.renderer.workspace, analytic.workspace)
+    );
     Ok(())
 }

@@ -44,6 +44,46 @@ fn board_firmware_links_within_the_f411() {
         "statics {statics} leave less than 10 KiB of stack"
     );
     assert!(link.stack >= STACK_RESERVE);
+
+    // The renderer's statics hold what the library's byte counts (and so the
+    // build script's RAM check) say: the board's default sizes, the largest of
+    // its scenes.
+    use abuffer_panel::demo::defaults;
+    use mcu_abuffer::memory::bytes;
+    let (width, height) = (defaults::WIDTH as usize, defaults::HEIGHT as usize);
+    let fragments = bytes::fragment_memory(
+        2,
+        width,
+        defaults::BAND_ROWS as usize,
+        defaults::MAIN_SLOTS as usize,
+        defaults::EXTRA_ADDRESSES as usize,
+        defaults::POOL_SLOTS,
+    );
+    let scenes: Vec<_> = defaults::SCENES
+        .iter()
+        .map(|name| host_sim::builtins::builtin_scene(name, width as u32, height as u32).unwrap())
+        .collect();
+    let most = |count: fn(&host_sim::scene_desc::SceneDesc) -> usize| {
+        scenes.iter().map(count).max().unwrap()
+    };
+    let workspace = bytes::workspace_memory(
+        width,
+        height,
+        most(|d| d.objects.len()),
+        most(|d| d.objects.iter().map(|o| o.mesh.positions.len()).sum()),
+        most(|d| d.objects.iter().map(|o| o.mesh.triangles.len()).sum()),
+    );
+    let r = link.renderer;
+    assert!(
+        host_sim::fit::cell_holds(r.fragments, fragments),
+        "fragment memory linked {} bytes, counted {fragments}",
+        r.fragments
+    );
+    assert!(
+        host_sim::fit::cell_holds(r.workspace, workspace),
+        "workspace linked {} bytes, counted {workspace}",
+        r.workspace
+    );
 }
 
 #[test]

@@ -228,3 +228,67 @@ fn parameters_that_do_not_fit_stop_the_build_with_the_overshoot() {
         "{err}"
     );
 }
+
+/// `host-sim fit`'s count of the renderer's memory is what the firmware links:
+/// the fragment memory and the workspace statics of the default M4 build
+/// (teapot) hold exactly the bytes the library's run-time byte counts give.
+#[test]
+fn the_linked_renderer_memory_is_the_counted_one() {
+    if !system_tests::firmware_tools_present(
+        "the_linked_renderer_memory_is_the_counted_one",
+        "thumbv7em-none-eabihf",
+        false,
+    ) {
+        return;
+    }
+    use host_sim::fit::{budget, cell_holds, read_link_report, workspace_bytes, FitArgs};
+    use mcu_abuffer::memory::bytes;
+    let config = FirmwareConfig {
+        frames: 1,
+        ..FirmwareConfig::default()
+    };
+    let elf = workdir("linked-memory").join("firmware.elf");
+    build_m4(&config, &[], &elf).unwrap_or_else(|e| panic!("firmware build failed: {e}"));
+    let linked = read_link_report(&elf).unwrap().renderer;
+    let mut desc = builtin_scene(&config.scene, 240, 240).unwrap();
+    desc.width = 240;
+    desc.height = 240;
+    let fragments = bytes::fragment_memory(
+        2,
+        240,
+        config.band as usize,
+        config.main as usize,
+        config.extra as usize,
+        config.pool,
+    );
+    let workspace = workspace_bytes(&desc);
+    assert!(
+        cell_holds(linked.fragments, fragments),
+        "fragment memory linked {} bytes, counted {fragments}",
+        linked.fragments
+    );
+    assert!(
+        cell_holds(linked.workspace, workspace),
+        "workspace linked {} bytes, counted {workspace}",
+        linked.workspace
+    );
+    // `fit`'s budget is made of the same counts.
+    let args = FitArgs {
+        scene: config.scene.clone(),
+        width: 240,
+        height: 240,
+        band: config.band,
+        grid: Grid::G4x4,
+        main: config.main,
+        extra: config.extra,
+        pool: config.pool,
+        fixed: None,
+        ram: 128 * 1024,
+        stack: 10240,
+        frames: None,
+        link: false,
+    };
+    let b = budget(&args, &desc, 1, 2, config.pool);
+    assert_eq!(b.counts + b.main_slots + b.addresses + b.pool, fragments);
+    assert_eq!(b.workspace, workspace);
+}

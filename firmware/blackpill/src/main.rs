@@ -19,13 +19,10 @@ use abuffer_panel::stream::BandStream;
 use cortex_m_rt::entry;
 use defmt_rtt as _;
 use dma_link::DmaPanelLink;
-use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_hal_bus::spi::ExclusiveDevice;
 use flushing_spi::FlushingSpi;
 use mcu_abuffer::fixed_point::Coord;
-use mcu_abuffer::fragment::PackedFragment;
 use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory};
-use mcu_abuffer::renderer::{ObjectFrame, ScreenVertex};
 use mcu_abuffer::stack::painted_stack_use;
 use mcu_abuffer::{Mask4x4, OverflowPolicy};
 use panic_probe as _;
@@ -50,12 +47,6 @@ mod scenes {
 
 use config::*;
 
-// The build script's memory arithmetic must use the real sizes.
-const _: () = assert!(core::mem::size_of::<ScreenVertex>() == SCREEN_VERTEX_BYTES);
-const _: () = assert!(core::mem::size_of::<ObjectFrame>() <= OBJECT_FRAME_BYTES);
-const _: () = assert!(core::mem::size_of::<Rgb888>() == COLOR_BYTES);
-const _: () = assert!(PackedFragment::<Mask4x4>::SIZE == FRAGMENT_BYTES);
-
 /// Core clock.
 const CLOCK_HZ: u32 = defaults::CLOCK_HZ;
 /// SPI clock: APB2 (100 MHz) / 2, the fastest the peripheral makes below the
@@ -67,11 +58,14 @@ const RATE_WINDOW: u32 = 4;
 const PIXELS: usize = WIDTH * BAND;
 const BAND_BYTES: usize = PIXELS * 2;
 
+type Fragments = FragmentMemory<Mask4x4, WIDTH, BAND, MAIN, EXTRA, POOL>;
+type Workspace = WorkspaceMemory<WIDTH, HEIGHT, OBJECTS, VERTICES, TRIANGLES>;
+// The build script's memory check counted these very types.
+const _: () = assert!(BUFFER_BYTES == Fragments::BYTES && WORKSPACE_BYTES == Workspace::BYTES);
+
 /// The renderer's memory: the band's fragments and the frame's workspace.
-static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, WIDTH, BAND, MAIN, EXTRA, POOL>> =
-    ConstStaticCell::new(FragmentMemory::new());
-static WORKSPACE: ConstStaticCell<WorkspaceMemory<WIDTH, HEIGHT, OBJECTS, VERTICES, TRIANGLES>> =
-    ConstStaticCell::new(WorkspaceMemory::new());
+static FRAGMENTS: ConstStaticCell<Fragments> = ConstStaticCell::new(Fragments::new());
+static WORKSPACE: ConstStaticCell<Workspace> = ConstStaticCell::new(Workspace::new());
 /// Two bands of RGB565 bytes: one is sent by DMA while the other renders.
 static BAND_A: ConstStaticCell<[u8; BAND_BYTES]> = ConstStaticCell::new([0; BAND_BYTES]);
 static BAND_B: ConstStaticCell<[u8; BAND_BYTES]> = ConstStaticCell::new([0; BAND_BYTES]);

@@ -5,13 +5,11 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_rt::exception;
 use cortex_m_semihosting::{debug, hio};
-use embedded_graphics_core::pixelcolor::Rgb888;
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1};
-use mcu_abuffer::fragment::PackedFragment;
 use mcu_abuffer::fragment_buffer::OverflowPolicy;
 use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory, ZBufferMemory};
-use mcu_abuffer::renderer::{FrameWorkspace, ObjectFrame, ScreenVertex};
+use mcu_abuffer::renderer::FrameWorkspace;
 use static_cell::ConstStaticCell;
 
 /// Which kind of pixel memory a build uses (the build picks one; the other is dead).
@@ -42,12 +40,6 @@ pub mod scene {
 }
 
 pub use config::*;
-
-// The build script's memory arithmetic must use the real sizes.
-const _: () = assert!(core::mem::size_of::<ScreenVertex>() == SCREEN_VERTEX_BYTES);
-const _: () = assert!(core::mem::size_of::<ObjectFrame>() <= OBJECT_FRAME_BYTES);
-const _: () = assert!(core::mem::size_of::<Rgb888>() == COLOR_BYTES);
-const _: () = assert!(PackedFragment::<Mask>::SIZE == FRAGMENT_BYTES);
 
 const SYSTICK_RELOAD: u32 = 0x00FF_FFFF;
 /// Instructions per SysTick tick under `-icount shift=0` on mps2 (25 MHz).
@@ -105,6 +97,19 @@ type Fragments = FragmentMemory<
 >;
 /// The z-buffer's band (one pixel in the A-buffer builds).
 type Depths = ZBufferMemory<{ if_used(ZBUF, WIDTH) }, { if_used(ZBUF, BAND) }>;
+
+// The build script's memory check counted these very types.
+const _: () = assert!(
+    WORKSPACE_BYTES == WorkspaceMemory::<WIDTH, HEIGHT, OBJECTS_LEN, VERTICES, TRIANGLES>::BYTES
+);
+const _: () = assert!(
+    BUFFER_BYTES
+        == if ABUF {
+            Fragments::BYTES
+        } else {
+            Depths::BYTES
+        }
+);
 
 static FRAGMENTS: ConstStaticCell<Fragments> = ConstStaticCell::new(Fragments::new());
 static DEPTHS: ConstStaticCell<Depths> = ConstStaticCell::new(Depths::new());
