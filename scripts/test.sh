@@ -42,6 +42,9 @@ cargo clippy --manifest-path firmware/blackpill/Cargo.toml --release --target th
 # The minimal example firmware (README, "Add it to your firmware") links for the board.
 cargo build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal
 
+echo "== the library and the scene crate package for crates.io (dry run)"
+cargo publish --dry-run --allow-dirty -p mcu-abuffer -p abuffer-scenes
+
 echo "== the declared minimum Rust version (workspace rust-version) builds everything"
 msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' Cargo.toml)
 rustup toolchain install "$msrv" --profile minimal >/dev/null

@@ -437,6 +437,36 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         }
     }
 
+    /// The color of pixel `p`, which holds `n >= 1` fragments: each
+    /// fragment's color weighted by its samples, the uncovered samples
+    /// `background`, rounded to nearest.
+    #[inline(never)]
+    fn resolve_pixel(&self, p: usize, n: usize, background: Rgb888) -> Rgb888 {
+        let first = &self.main[p * self.config.main_slots as usize];
+        if n == 1 && first.mask() == M::FULL {
+            // An interior pixel: one fragment covers every sample.
+            let [r, g, b] = first.rgb();
+            return Rgb888::new(r, g, b);
+        }
+        let (mut r, mut g, mut b, mut covered) = (0u32, 0u32, 0u32, 0u32);
+        for i in 0..n {
+            let f = self.slot_ref(p, i);
+            let k = f.mask().count();
+            let [fr, fg, fb] = f.rgb();
+            r += fr as u32 * k;
+            g += fg as u32 * k;
+            b += fb as u32 * k;
+            covered += k;
+        }
+        let rest = M::SAMPLES - covered.min(M::SAMPLES);
+        let (half, shift) = (M::SAMPLES / 2, M::SAMPLES_LOG2);
+        Rgb888::new(
+            ((r + background.r() as u32 * rest + half) >> shift) as u8,
+            ((g + background.g() as u32 * rest + half) >> shift) as u8,
+            ((b + background.b() as u32 * rest + half) >> shift) as u8,
+        )
+    }
+
     /// Merges entries `i` and `i + 1` of the virtual list (stored fragments with `f`
     /// at position `k`) and writes the resulting entries back (the count is unchanged).
     fn merge_pair(&mut self, p: usize, k: usize, f: &Fragment<M>, i: usize) {
@@ -609,38 +639,16 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
         let width = self.config.width as usize;
         let start = row as usize * width;
-        let half = M::SAMPLES / 2;
-        for (x, px) in out.iter_mut().enumerate().take(width) {
-            let p = start + x;
-            let n = self.counts[p] as usize;
-            if n == 0 {
-                *px = background;
-                continue;
-            }
-            let first = self.slot_ref(p, 0);
-            if n == 1 && first.mask() == M::FULL {
-                // An interior pixel: one fragment covers every sample.
-                let [r, g, b] = first.rgb();
-                *px = Rgb888::new(r, g, b);
-                continue;
-            }
-            let (mut r, mut g, mut b, mut covered) = (0u32, 0u32, 0u32, 0u32);
-            for i in 0..n {
-                let f = self.slot_ref(p, i);
-                let k = f.mask().count();
-                let [fr, fg, fb] = f.rgb();
-                r += fr as u32 * k;
-                g += fg as u32 * k;
-                b += fb as u32 * k;
-                covered += k;
-            }
-            let rest = M::SAMPLES - covered.min(M::SAMPLES);
-            let shift = M::SAMPLES_LOG2;
-            *px = Rgb888::new(
-                ((r + background.r() as u32 * rest + half) >> shift) as u8,
-                ((g + background.g() as u32 * rest + half) >> shift) as u8,
-                ((b + background.b() as u32 * rest + half) >> shift) as u8,
-            );
+        let shown = width.min(out.len());
+        // The loop over the row stays small (background pixels are about half
+        // of them); covered pixels are resolved out of line.
+        let counts = &self.counts[start..start + shown];
+        for (x, (px, &n)) in out[..shown].iter_mut().zip(counts).enumerate() {
+            *px = if n == 0 {
+                background
+            } else {
+                self.resolve_pixel(start + x, n as usize, background)
+            };
         }
     }
 
