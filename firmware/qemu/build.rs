@@ -8,7 +8,7 @@
 //! | `FIRMWARE_SCENE` | built-in scene name or a scene file (relative to the repository root) | M4: `teapot`, OLED: `teapot:4` |
 //! | `FIRMWARE_WIDTH`, `FIRMWARE_HEIGHT` | image size (overrides the scene's and the board's) | M4: 240 x 240, OLED: 128 x 64 |
 //! | `FIRMWARE_FRAMES` | turntable frames, evenly spaced over 360 degrees | 4 |
-//! | `FIRMWARE_METHOD` | `shared`, `fixed-discard`, `fixed-merge`, `merge-closest`, `unlimited`, `zbuffer` | `shared` |
+//! | `FIRMWARE_METHOD` | `split-bands`, `shared`, `fixed-discard`, `fixed-merge`, `merge-closest`, `unlimited`, `zbuffer` | `split-bands` |
 //! | `FIRMWARE_GRID` | `4x4`, `8x4`, `8x8` | `4x4` |
 //! | `FIRMWARE_BAND` | band height in rows | 8 |
 //! | `FIRMWARE_MAIN`, `FIRMWARE_EXTRA`, `FIRMWARE_POOL` | `N_main`, `N_extra`, `N_pool` | 1, 2, 512 |
@@ -141,7 +141,7 @@ fn main() {
     }
     check_convertible(&desc).unwrap_or_else(|e| fail(&format!("FIRMWARE_SCENE {spec}: {e}")));
     let frames = env_num("FIRMWARE_FRAMES", 4).max(1);
-    let method = env("FIRMWARE_METHOD").unwrap_or_else(|| "shared".into());
+    let method = env("FIRMWARE_METHOD").unwrap_or_else(|| "split-bands".into());
     let grid = env("FIRMWARE_GRID").unwrap_or_else(|| "4x4".into());
     let band = env_num("FIRMWARE_BAND", 8).clamp(1, desc.height as usize);
     let fixed = env_num("FIRMWARE_FIXED", 3);

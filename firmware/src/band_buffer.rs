@@ -48,6 +48,17 @@ pub trait BandBuffer<M: CoverageMask> {
         let _ = (x, row, depth);
         false
     }
+    /// Whether, in every pixel of columns `x0..=x1` in every row of the band,
+    /// the buffer holds something strictly nearer at every sample than
+    /// `depth` (the question of [`BandBuffer::hides`] for all those pixels at
+    /// once), answered from a summary the buffer keeps; `false` when the
+    /// summary cannot tell, and the caller then asks pixel by pixel. The
+    /// default says `false`. Asking changes nothing in the buffer.
+    #[inline]
+    fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
+        let _ = (x0, x1, depth);
+        false
+    }
     /// Counts one whole-triangle test against the band: `pixels` pixels asked
     /// with [`BandBuffer::hides`], and whether the triangle was skipped.
     #[inline]

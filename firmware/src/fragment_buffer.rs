@@ -177,6 +177,65 @@ pub struct FragmentBuffer<'a, M: CoverageMask, A: PoolAddress> {
     /// Whether an allocation from the pool failed in the current band.
     pool_ran_out: bool,
     stats: BufferStats,
+    /// What the whole-band test of hidden triangles asks first
+    /// ([`BandBuffer::hides_columns`]).
+    strips: StripSummary,
+}
+
+/// Columns per strip of [`StripSummary`].
+const STRIP_WIDTH: usize = 8;
+/// Strips of the widest image ([`crate::scene::MAX_IMAGE_SIDE`]).
+const MAX_STRIPS: usize = crate::scene::MAX_IMAGE_SIDE as usize / STRIP_WIDTH;
+
+/// Per strip of 8 columns over the band's rows: how many of its pixels are
+/// fully covered, and a bound on the farthest sample depth of any fragment
+/// stored there in this band. Both only grow while a band is drawn: a
+/// pixel's covered samples never shrink (merges keep the union of their
+/// masks, hidden fragments leave only where another covers them), and the
+/// bound keeps fragments that have left. So a strip whose pixels are all
+/// covered and whose bound is nearer than a triangle's nearest sample hides
+/// the triangle there, as [`BandBuffer::hides`] would say pixel by pixel.
+/// Not kept under [`OverflowPolicy::Discard`], which drops coverage, nor for
+/// images wider than [`crate::scene::MAX_IMAGE_SIDE`].
+struct StripSummary {
+    kept: bool,
+    full_pixels: [u16; MAX_STRIPS],
+    farthest: [i32; MAX_STRIPS],
+}
+
+impl StripSummary {
+    fn new(config: &BufferConfig) -> Self {
+        Self {
+            kept: config.policy != OverflowPolicy::Discard
+                && config.width as usize <= MAX_STRIPS * STRIP_WIDTH,
+            full_pixels: [0; MAX_STRIPS],
+            farthest: [i32::MIN; MAX_STRIPS],
+        }
+    }
+
+    fn clear(&mut self, width: u16) {
+        let n = (width as usize).div_ceil(STRIP_WIDTH).min(MAX_STRIPS);
+        self.full_pixels[..n].fill(0);
+        self.farthest[..n].fill(i32::MIN);
+    }
+
+    /// Notes a fragment stored (or merged) at column `x`.
+    #[inline]
+    fn stored<M: CoverageMask>(&mut self, x: usize, f: &PackedFragment<M>) {
+        if self.kept {
+            let s = &mut self.farthest[x / STRIP_WIDTH];
+            *s = (*s).max(f.farthest_sample_depth());
+        }
+    }
+
+    /// Notes that a pixel at column `x` covered `before` and now covers
+    /// `before | added`.
+    #[inline]
+    fn covered<M: CoverageMask>(&mut self, x: usize, before: M, added: M) {
+        if self.kept && before != M::FULL && (before | added) == M::FULL {
+            self.full_pixels[x / STRIP_WIDTH] += 1;
+        }
+    }
 }
 
 /// Where one list position of a pixel lives.
@@ -228,6 +287,7 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
             rows: config.band_height,
             pool_ran_out: false,
             stats: BufferStats::default(),
+            strips: StripSummary::new(&config),
         })
     }
 
@@ -377,7 +437,9 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
                 A::from_index(slot);
         }
         self.shift_later(p, k, n);
-        self.write(p, k, PackedFragment::pack(f));
+        let packed = PackedFragment::pack(f);
+        self.write(p, k, packed);
+        self.strips.stored(p % self.config.width as usize, &packed);
         true
     }
 
@@ -479,6 +541,9 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         };
         let merged = merge_fragments(&entry(self, i), &entry(self, i + 1));
         let merged = PackedFragment::pack(&merged);
+        let column = p % self.config.width as usize;
+        self.strips.stored(column, &merged);
+        self.strips.stored(column, &PackedFragment::pack(f));
         if k <= i {
             // Stored k..i-1 move one later; the merged one lands at i; f at k (if k < i).
             self.shift_later(p, k, i.saturating_sub(1).max(k));
@@ -517,6 +582,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         self.pool.reset();
         self.pool.clear_peak();
         self.pool_ran_out = false;
+        self.strips.clear(self.config.width);
     }
 
     fn pool_use(&self) -> PoolUse {
@@ -541,6 +607,20 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
             f.farthest_sample_depth() as i64 >= depth
         });
         !farther && covered == M::FULL
+    }
+
+    fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
+        if !self.strips.kept {
+            return false;
+        }
+        let width = self.config.width as usize;
+        let rows = self.rows as usize;
+        let last = (x1 as usize).min(width - 1) / STRIP_WIDTH;
+        (x0 as usize / STRIP_WIDTH..=last).all(|s| {
+            let columns = STRIP_WIDTH.min(width - s * STRIP_WIDTH);
+            self.strips.full_pixels[s] as usize == columns * rows
+                && (self.strips.farthest[s] as i64) < depth
+        })
     }
 
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
@@ -575,7 +655,10 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         let mut n = self.counts[p] as usize;
         if n == 0 {
             // The first fragment of a pixel goes to its first main slot.
-            self.main[p * self.config.main_slots as usize] = PackedFragment::pack(fragment);
+            let packed = PackedFragment::pack(fragment);
+            self.main[p * self.config.main_slots as usize] = packed;
+            self.strips.stored(x as usize, &packed);
+            self.strips.covered(x as usize, M::EMPTY, fragment.mask);
             self.counts[p] = 1;
             self.stats.fragments_stored += 1;
             self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(1);
@@ -589,7 +672,11 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         let mut emptied = false;
         let mut k = n;
         let mut position = 0;
+        // The samples the pixel covered before (complete unless the fragment
+        // turns out hidden, which changes nothing).
+        let mut covered = M::EMPTY;
         self.any_stored(p, n, |stored| {
+            covered = covered | stored.mask();
             if k == n && stored.z() > f.z {
                 k = position;
             }
@@ -632,6 +719,8 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         } else {
             self.overflow(p, n, k, &f);
         }
+        // Stored or merged, the pixel now covers its old samples and the new ones.
+        self.strips.covered(x as usize, covered, fragment.mask);
         self.counts[p] = n as u8;
         self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(n as u32);
     }

@@ -218,6 +218,12 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
     let bound = 16 * z
         - setup.dzdx.unsigned_abs() as i64 * M::max_offset_x() as i64
         - setup.dzdy.unsigned_abs() as i64 * M::max_offset_y() as i64;
+    // Whole strips of columns first: one comparison each where the buffer
+    // keeps a summary.
+    if buffer.hides_columns(setup.x0, setup.x1, bound) {
+        buffer.count_triangle_test(0, true);
+        return true;
+    }
     let mut asked = 0u32;
     for row in y_first - band_y0..y_last - band_y0 + 1 {
         for x in setup.x0..setup.x1 + 1 {

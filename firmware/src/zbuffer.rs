@@ -156,11 +156,10 @@ pub(crate) fn resolve_depth_row(
     out: &mut [Rgb888],
 ) {
     let start = row as usize * width as usize;
-    for (x, px) in out.iter_mut().enumerate().take(width as usize) {
-        *px = if depth[start + x] == EMPTY_DEPTH {
-            background
-        } else {
-            color[start + x]
-        };
+    let shown = (width as usize).min(out.len());
+    let depths = &depth[start..start + shown];
+    let colors = &color[start..start + shown];
+    for ((px, &z), &c) in out[..shown].iter_mut().zip(depths).zip(colors) {
+        *px = if z == EMPTY_DEPTH { background } else { c };
     }
 }

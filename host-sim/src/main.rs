@@ -235,6 +235,12 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         for line in host_sim::zbuffer_table::report_lines(counts, *differing) {
             println!("{line}");
         }
+    } else if b.culling_depth_tests > 0 {
+        // The A-buffer's whole-band test of triangles facing away.
+        println!(
+            "hidden whole     {} triangles skipped in a band, {} pixels tested",
+            b.triangles_culled, b.culling_depth_tests
+        );
     }
     println!("time             {:.2} ms", out.elapsed.as_secs_f64() * 1e3);
     println!("wrote            {}", args.out.display());

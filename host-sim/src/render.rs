@@ -237,6 +237,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<B> {
     fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         self.inner.hides(x, row, depth)
     }
+    fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
+        self.inner.hides_columns(x0, x1, depth)
+    }
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
         self.inner.count_triangle_test(pixels, hidden)
     }

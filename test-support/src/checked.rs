@@ -184,6 +184,23 @@ impl<M: CoverageMask, B: Inspect<M>> BandBuffer<M> for Checked<B> {
         self.assert_in_band(x, row);
         self.inner.hides(x, row, depth)
     }
+    fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
+        self.assert_in_band(x0, 0);
+        self.assert_in_band(x1, 0);
+        let hidden = self.inner.hides_columns(x0, x1, depth);
+        if hidden {
+            // The summary may only say what every pixel would say.
+            for row in 0..self.rows {
+                for x in x0..=x1 {
+                    assert!(
+                        self.inner.hides(x, row, depth),
+                        "hides_columns({x0}, {x1}) holds but pixel ({x}, {row}) does not hide depth {depth}"
+                    );
+                }
+            }
+        }
+        hidden
+    }
 
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
         self.inner.count_triangle_test(pixels, hidden)

@@ -337,6 +337,57 @@ fn resolve_weights_colors_by_coverage() {
     assert_eq!(channels(out[0]), [64, 64, 128]);
 }
 
+/// The whole-band test's summary of strips of columns agrees with the pixels:
+/// it says "hidden" only once every pixel of the strips is covered by nearer
+/// fragments, never under `Discard` (which drops coverage), and answers the
+/// same as asking every pixel.
+#[test]
+fn strip_summary_hides_only_what_every_pixel_hides() {
+    for policy in [
+        OverflowPolicy::MergeFarthest,
+        OverflowPolicy::SplitBands,
+        OverflowPolicy::Discard,
+    ] {
+        let config = BufferConfig {
+            width: 20,
+            band_height: 3,
+            main_slots: 1,
+            extra_addresses: 2,
+            policy,
+        };
+        let mut storage = FragmentStorage::<Mask4x4>::new(config, 64);
+        let mut b = storage.buffer();
+        b.begin_band(0, 3);
+        let every_pixel = |b: &mut mcu_abuffer::FragmentBuffer<'_, Mask4x4, u32>,
+                           x0: u16,
+                           x1: u16,
+                           depth: i64| {
+            (0..3).all(|row| (x0..=x1).all(|x| b.hides(x, row, depth)))
+        };
+        // Columns 0..8 (strip 0): two half masks per pixel at depths 100 and
+        // 120, tilted (the farthest sample of the second is 16 * 120 + 6 * 12).
+        for row in 0..3 {
+            for x in 0..8 {
+                b.insert(x, row, &plain(0x00FF, 100, 0, 0, [9, 9, 9]).to_fragment());
+                assert!(!b.hides_columns(0, 7, i64::MAX), "strip full too early");
+                b.insert(x, row, &plain(0xFF00, 120, 6, 0, [9, 9, 9]).to_fragment());
+            }
+        }
+        let farthest = 16 * 120 + 6 * 6;
+        let kept = policy != OverflowPolicy::Discard;
+        assert_eq!(b.hides_columns(0, 7, farthest + 1), kept, "{policy:?}");
+        assert!(every_pixel(&mut b, 0, 7, farthest + 1));
+        // Not strictly nearer: not hidden, by the strip or by any pixel.
+        assert!(!b.hides_columns(0, 7, farthest));
+        assert!(!every_pixel(&mut b, 0, 7, farthest));
+        // Strip 1 (columns 8..16) is empty: a box reaching into it is not hidden.
+        assert!(!b.hides_columns(3, 9, farthest + 1));
+        // A new band starts empty.
+        b.begin_band(3, 3);
+        assert!(!b.hides_columns(0, 7, i64::MAX));
+    }
+}
+
 // ---------------------------------------------------------------------------------
 // Reference model of one pixel
 // ---------------------------------------------------------------------------------

@@ -188,8 +188,10 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
         let t1 = ticks();
         self.ticks.setup += t1 - t0;
         let setup = setup?;
-        // The whole-triangle test counts as setup, hidden or not.
-        let hidden = mcu_abuffer::raster::hidden_in_band(&setup, band_y0, band_rows, self);
+        // The whole-triangle test counts as setup, hidden or not; as in
+        // `draw_in_band`, only for faces turned away.
+        let hidden = setup.faces_away()
+            && mcu_abuffer::raster::hidden_in_band(&setup, band_y0, band_rows, self);
         let t2 = ticks();
         self.ticks.setup += t2 - t1;
         if hidden {
@@ -212,6 +214,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
     }
     fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         self.inner.hides(x, row, depth)
+    }
+    fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
+        self.inner.hides_columns(x0, x1, depth)
     }
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
         self.inner.count_triangle_test(pixels, hidden)
