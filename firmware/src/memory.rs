@@ -42,6 +42,12 @@ use crate::renderer::{FrameWorkspace, ObjectFrame, ScreenVertex};
 use crate::zbuffer::ZBuffer;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 
+/// Whether a band of `width` x `band` pixels can be addressed (each side
+/// 1 to 65,535).
+const fn band_fits(width: usize, band: usize) -> bool {
+    width >= 1 && width <= u16::MAX as usize && band >= 1 && band <= u16::MAX as usize
+}
+
 /// The pool address type of [`FragmentMemory`]: 16 bits, so at most 65,535
 /// pool slots.
 pub type PoolIndex = u16;
@@ -78,14 +84,7 @@ impl<
 {
     /// Evaluated by `new`: a size out of range stops the build.
     const SIZES_FIT: () = {
-        assert!(
-            WIDTH >= 1 && WIDTH <= u16::MAX as usize,
-            "WIDTH must be 1..=65535"
-        );
-        assert!(
-            BAND >= 1 && BAND <= u16::MAX as usize,
-            "BAND must be 1..=65535"
-        );
+        assert!(band_fits(WIDTH, BAND), "WIDTH and BAND must be 1..=65535");
         assert!(
             MAIN >= 1,
             "MAIN (fragment slots per pixel) must be at least 1"
@@ -167,16 +166,7 @@ pub struct ZBufferMemory<const WIDTH: usize, const BAND: usize> {
 
 impl<const WIDTH: usize, const BAND: usize> ZBufferMemory<WIDTH, BAND> {
     /// Evaluated by `new`: a size out of range stops the build.
-    const SIZES_FIT: () = {
-        assert!(
-            WIDTH >= 1 && WIDTH <= u16::MAX as usize,
-            "WIDTH must be 1..=65535"
-        );
-        assert!(
-            BAND >= 1 && BAND <= u16::MAX as usize,
-            "BAND must be 1..=65535"
-        );
-    };
+    const SIZES_FIT: () = assert!(band_fits(WIDTH, BAND), "WIDTH and BAND must be 1..=65535");
 
     /// Bytes this memory occupies.
     pub const BYTES: usize = core::mem::size_of::<Self>();

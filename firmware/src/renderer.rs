@@ -272,14 +272,7 @@ impl<'m, M: CoverageMask, B: BandBuffer<M>> Renderer<'m, M, B> {
         options: &FrameOptions,
         sink: &mut S,
     ) -> Result<FrameStats, RenderError<S::Error>> {
-        render_frame(
-            scene,
-            options,
-            &mut self.workspace,
-            &mut self.buffer,
-            sink,
-            |_, _, _| {},
-        )
+        self.render_observed(scene, options, sink, |_, _, _| {})
     }
 
     /// As [`Self::render`], calling `on_band(y0, rows, buffer)` after each
