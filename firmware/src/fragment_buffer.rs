@@ -195,10 +195,18 @@ const MAX_STRIPS: usize = crate::scene::MAX_IMAGE_SIDE as usize / STRIP_WIDTH;
 /// bound keeps fragments that have left. So a strip whose pixels are all
 /// covered and whose bound is nearer than a triangle's nearest sample hides
 /// the triangle there, as [`BandBuffer::hides`] would say pixel by pixel.
-/// Not kept under [`OverflowPolicy::Discard`], which drops coverage, nor for
-/// images wider than [`crate::scene::MAX_IMAGE_SIDE`].
+/// Kept from the band after the first question on ([`BandBuffer::hides_columns`]
+/// is asked only about triangles facing away, which scenes that cull them
+/// never draw: those pay nothing for it); not under
+/// [`OverflowPolicy::Discard`], which drops coverage, nor for images wider
+/// than [`crate::scene::MAX_IMAGE_SIDE`].
 struct StripSummary {
+    /// Whether the current band keeps the summary (decided when it begins).
     kept: bool,
+    /// Whether the summary may be kept at all.
+    allowed: bool,
+    /// Whether it has been asked for.
+    asked: bool,
     full_pixels: [u16; MAX_STRIPS],
     farthest: [i32; MAX_STRIPS],
 }
@@ -206,17 +214,23 @@ struct StripSummary {
 impl StripSummary {
     fn new(config: &BufferConfig) -> Self {
         Self {
-            kept: config.policy != OverflowPolicy::Discard
+            kept: false,
+            allowed: config.policy != OverflowPolicy::Discard
                 && config.width as usize <= MAX_STRIPS * STRIP_WIDTH,
+            asked: false,
             full_pixels: [0; MAX_STRIPS],
             farthest: [i32::MIN; MAX_STRIPS],
         }
     }
 
-    fn clear(&mut self, width: u16) {
-        let n = (width as usize).div_ceil(STRIP_WIDTH).min(MAX_STRIPS);
-        self.full_pixels[..n].fill(0);
-        self.farthest[..n].fill(i32::MIN);
+    /// Starts a band `width` pixels wide.
+    fn begin(&mut self, width: u16) {
+        self.kept = self.allowed && self.asked;
+        if self.kept {
+            let n = (width as usize).div_ceil(STRIP_WIDTH).min(MAX_STRIPS);
+            self.full_pixels[..n].fill(0);
+            self.farthest[..n].fill(i32::MIN);
+        }
     }
 
     /// Notes a fragment stored (or merged) at column `x`.
@@ -582,7 +596,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         self.pool.reset();
         self.pool.clear_peak();
         self.pool_ran_out = false;
-        self.strips.clear(self.config.width);
+        self.strips.begin(self.config.width);
     }
 
     fn pool_use(&self) -> PoolUse {
@@ -610,6 +624,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     }
 
     fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
+        self.strips.asked = true;
         if !self.strips.kept {
             return false;
         }

@@ -357,6 +357,9 @@ fn strip_summary_hides_only_what_every_pixel_hides() {
         };
         let mut storage = FragmentStorage::<Mask4x4>::new(config, 64);
         let mut b = storage.buffer();
+        // The summary is kept from the band after the first question.
+        b.begin_band(0, 3);
+        assert!(!b.hides_columns(0, 7, i64::MAX));
         b.begin_band(0, 3);
         let every_pixel = |b: &mut mcu_abuffer::FragmentBuffer<'_, Mask4x4, u32>,
                            x0: u16,
