@@ -6,6 +6,11 @@
 # is saved under fuzz/artifacts/<target>/.
 #
 #     bash scripts/fuzz.sh [SECONDS] [TARGET...]
+#
+# FUZZ_SEED=N fixes libFuzzer's random seed: the inputs tried are then the same
+# sequence on every machine (a faster machine gets further along it), so a run
+# that passed locally for longer covers what the test command tries. Without
+# it each run explores new inputs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -38,7 +43,7 @@ for target in "${targets[@]}"; do
   mkdir -p "$scratch/$target"
   log="$scratch/$target.log"
   if ! cargo +nightly fuzz run "${flags[@]}" "$target" "$scratch/$target" "fuzz/corpus/$target" -- \
-    -max_total_time="$seconds" -print_final_stats=1 >"$log" 2>&1; then
+    -max_total_time="$seconds" -print_final_stats=1 ${FUZZ_SEED:+-seed="$FUZZ_SEED"} >"$log" 2>&1; then
     tail -n 80 "$log"
     echo "fuzz target $target failed; the input is in fuzz/artifacts/$target/" >&2
     exit 1

@@ -184,8 +184,9 @@ pub struct FragmentBuffer<'a, M: CoverageMask, A: PoolAddress> {
 
 /// Columns per strip of [`StripSummary`].
 const STRIP_WIDTH: usize = 8;
-/// Strips of the widest image ([`crate::scene::MAX_IMAGE_SIDE`]).
-const MAX_STRIPS: usize = crate::scene::MAX_IMAGE_SIDE as usize / STRIP_WIDTH;
+/// Strips kept: images up to 512 pixels wide (the summary lives in the
+/// buffer itself, 6 bytes a strip; wider images are tested pixel by pixel).
+const MAX_STRIPS: usize = 64;
 
 /// Per strip of 8 columns over the band's rows: how many of its pixels are
 /// fully covered, and a bound on the farthest sample depth of any fragment
@@ -195,11 +196,11 @@ const MAX_STRIPS: usize = crate::scene::MAX_IMAGE_SIDE as usize / STRIP_WIDTH;
 /// bound keeps fragments that have left. So a strip whose pixels are all
 /// covered and whose bound is nearer than a triangle's nearest sample hides
 /// the triangle there, as [`BandBuffer::hides`] would say pixel by pixel.
-/// Kept from the band after the first question on ([`BandBuffer::hides_columns`]
+/// Kept from the band after the frame's first question on ([`BandBuffer::hides_columns`]
 /// is asked only about triangles facing away, which scenes that cull them
 /// never draw: those pay nothing for it); not under
 /// [`OverflowPolicy::Discard`], which drops coverage, nor for images wider
-/// than [`crate::scene::MAX_IMAGE_SIDE`].
+/// than 512 pixels.
 struct StripSummary {
     /// Whether the current band keeps the summary (decided when it begins).
     kept: bool,
@@ -223,8 +224,13 @@ impl StripSummary {
         }
     }
 
-    /// Starts a band `width` pixels wide.
-    fn begin(&mut self, width: u16) {
+    /// Starts a band `width` pixels wide at row `y0`. The band at row 0
+    /// starts a frame, which forgets the earlier frames' questions: a frame
+    /// does the same work however many were drawn before it.
+    fn begin(&mut self, y0: u16, width: u16) {
+        if y0 == 0 {
+            self.asked = false;
+        }
         self.kept = self.allowed && self.asked;
         if self.kept {
             let n = (width as usize).div_ceil(STRIP_WIDTH).min(MAX_STRIPS);
@@ -587,7 +593,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         self.config.band_height
     }
 
-    fn begin_band(&mut self, _y0: u16, rows: u16) {
+    fn begin_band(&mut self, y0: u16, rows: u16) {
         self.rows = rows.min(self.config.band_height);
         let used = self.config.width as usize * self.rows as usize;
         self.counts[..used].fill(0);
@@ -596,7 +602,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         self.pool.reset();
         self.pool.clear_peak();
         self.pool_ran_out = false;
-        self.strips.begin(self.config.width);
+        self.strips.begin(y0, self.config.width);
     }
 
     fn pool_use(&self) -> PoolUse {

@@ -2,7 +2,8 @@
 //!
 //! The built-in scenes turn on a turntable, one after another, each for a few
 //! seconds. Every frame is rendered in bands with the shared-pool A-buffer (4x4
-//! samples); each finished band goes to the display by DMA while the next band
+//! samples; a band whose pool runs out is drawn again as two halves, so the
+//! image is the one unlimited memory would give); each finished band goes to the display by DMA while the next band
 //! renders, with the frame rate drawn into the top band. The defmt log (over RTT)
 //! reports frames per second, cycles per frame (DWT), fragments, merges, the pool
 //! peak, the time spent waiting for the display and the stack's high-water mark.
