@@ -42,6 +42,9 @@ cargo clippy --manifest-path firmware/blackpill/Cargo.toml --release --target th
 # The minimal example firmware (README, "Add it to your firmware") links for the board.
 cargo build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal
 
+echo "== the library's documentation builds without warnings (broken links included)"
+RUSTDOCFLAGS="-D warnings" cargo doc -p mcu-abuffer --no-deps
+
 echo "== the library and the scene crate package for crates.io (dry run)"
 cargo publish --dry-run --allow-dirty -p mcu-abuffer -p abuffer-scenes
 

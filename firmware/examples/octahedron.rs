@@ -8,10 +8,9 @@
 //! use `host-sim`.
 
 use embedded_graphics_core::pixelcolor::Rgb888;
-use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory};
 use mcu_abuffer::scene::OCTAHEDRON;
-use mcu_abuffer::{Camera, FrameOptions, ImageSink, Light, Mask4x4, OverflowPolicy};
+use mcu_abuffer::{Camera, Coord, FrameOptions, ImageSink, Light, Mask4x4, OverflowPolicy};
 use mcu_abuffer::{Renderer, Scene, SceneObject, Shading, Transform};
 use static_cell::ConstStaticCell;
 

@@ -12,12 +12,19 @@
 //! caller (static arrays on a device). All arithmetic after scene loading is
 //! integer, so a device and the desktop simulator produce the same bits.
 //!
-//! Pipeline, by module: [`geometry`] (transform, outcodes, projection), [`clip`],
-//! [`lighting`], [`setup`] (edge functions, depth and color planes), [`shading`]
-//! (quadratic and Phong shading, color walkers), [`raster`]
-//! ([`coverage`] masks), [`fragment_buffer`] ([`visibility`], [`merge`], [`pool`])
-//! or [`zbuffer`] ([`zbuffer_hiz`], [`zbuffer_midpoint`]), resolve, [`sink`].
-//! [`renderer::render_frame`] drives it.
+//! The public API is what a firmware needs: the memory types ([`memory`]),
+//! a [`Renderer`], the [`scene`] description, the output [`sink`]s, the
+//! frame statistics ([`stats`]) and the band buffers with their options
+//! ([`FragmentBuffer`] and [`OverflowPolicy`]; [`ZBuffer`] and its culling
+//! variants). The pipeline's stages are modules named after them, in the
+//! order a frame runs through them: `geometry` (transform, outcodes,
+//! projection), `clip`, `lighting`, `setup` (edge functions, depth and color
+//! planes), `shading` (quadratic and Phong shading, color walkers), `raster`
+//! (with `coverage` masks), `fragment_buffer` (with `visibility`, `merge`,
+//! `pool`) or `zbuffer` (`zbuffer_hiz`, `zbuffer_midpoint`), resolve, `sink`;
+//! `renderer` drives them. Those modules are public for the simulator, the
+//! system tests and the fuzz targets, but hidden from this documentation and
+//! not part of the stable API.
 //!
 //! # Add it to your firmware
 //!
@@ -30,10 +37,9 @@
 //!
 //! ```
 //! use embedded_graphics_core::pixelcolor::Rgb888;
-//! use mcu_abuffer::fixed_point::Coord;
 //! use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory};
 //! use mcu_abuffer::scene::OCTAHEDRON;
-//! use mcu_abuffer::{Camera, FrameOptions, ImageSink, Mask4x4, OverflowPolicy};
+//! use mcu_abuffer::{Camera, Coord, FrameOptions, ImageSink, Mask4x4, OverflowPolicy};
 //! use mcu_abuffer::{Renderer, Scene, SceneObject, Shading, Transform};
 //! use static_cell::ConstStaticCell;
 //!
@@ -89,33 +95,54 @@
 // Matrix and per-channel arithmetic reads best with explicit indices.
 #![allow(clippy::needless_range_loop)]
 
-pub mod band_buffer;
-pub mod clip;
-pub mod coverage;
-pub mod fixed_point;
-pub mod fragment;
-pub mod fragment_buffer;
-pub mod geometry;
-pub mod lighting;
 pub mod memory;
-pub mod merge;
-pub mod pool;
-pub mod raster;
-pub mod renderer;
 pub mod scene;
-pub mod setup;
-pub mod shading;
 pub mod sink;
-pub mod stack;
 pub mod stats;
+
+// The pipeline's stages: public for host-sim, the system tests and the fuzz
+// targets, hidden from the documentation and outside the stable API.
+#[doc(hidden)]
+pub mod band_buffer;
+#[doc(hidden)]
+pub mod clip;
+#[doc(hidden)]
+pub mod coverage;
+#[doc(hidden)]
+pub mod fixed_point;
+#[doc(hidden)]
+pub mod fragment;
+#[doc(hidden)]
+pub mod fragment_buffer;
+#[doc(hidden)]
+pub mod geometry;
+#[doc(hidden)]
+pub mod lighting;
+#[doc(hidden)]
+pub mod merge;
+#[doc(hidden)]
+pub mod pool;
+#[doc(hidden)]
+pub mod raster;
+#[doc(hidden)]
+pub mod renderer;
+#[doc(hidden)]
+pub mod setup;
+#[doc(hidden)]
+pub mod shading;
+#[doc(hidden)]
+pub mod stack;
+#[doc(hidden)]
 pub mod visibility;
+#[doc(hidden)]
 pub mod zbuffer;
+#[doc(hidden)]
 pub mod zbuffer_hiz;
+#[doc(hidden)]
 pub mod zbuffer_midpoint;
 
 pub use band_buffer::BandBuffer;
 pub use coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
-pub use fragment::{Fragment, PackedFragment};
 pub use fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
 pub use renderer::{render_frame, FrameOptions, FrameWorkspace, RenderError, Renderer};
 pub use scene::{Camera, Light, Mesh, Scene, SceneObject, Shading, Transform};
@@ -124,3 +151,6 @@ pub use stats::FrameStats;
 pub use zbuffer::ZBuffer;
 pub use zbuffer_hiz::HierarchicalZBuffer;
 pub use zbuffer_midpoint::{MidpointConfig, MidpointZBuffer};
+
+pub use fixed::types::I2F14;
+pub use fixed_point::Coord;
