@@ -357,10 +357,10 @@ fn strip_summary_hides_only_what_every_pixel_hides() {
         };
         let mut storage = FragmentStorage::<Mask4x4>::new(config, 64);
         let mut b = storage.buffer();
-        // The summary is kept from the band after the first question.
+        // The summary is kept from the band after the frame's first question.
         b.begin_band(0, 3);
         assert!(!b.hides_columns(0, 7, i64::MAX));
-        b.begin_band(0, 3);
+        b.begin_band(3, 3);
         let every_pixel = |b: &mut mcu_abuffer::FragmentBuffer<'_, Mask4x4, u32>,
                            x0: u16,
                            x1: u16,
@@ -386,8 +386,19 @@ fn strip_summary_hides_only_what_every_pixel_hides() {
         // Strip 1 (columns 8..16) is empty: a box reaching into it is not hidden.
         assert!(!b.hides_columns(3, 9, farthest + 1));
         // A new band starts empty.
-        b.begin_band(3, 3);
+        b.begin_band(6, 3);
         assert!(!b.hides_columns(0, 7, i64::MAX));
+        // A new frame (the band at row 0) forgets the earlier frame's
+        // questions: its first band answers pixel by pixel, so a frame does
+        // the same work however many frames came before it.
+        b.begin_band(0, 3);
+        for row in 0..3 {
+            for x in 0..8 {
+                b.insert(x, row, &plain(0xFFFF, 100, 0, 0, [9, 9, 9]).to_fragment());
+            }
+        }
+        assert!(every_pixel(&mut b, 0, 7, 16 * 100 + 1));
+        assert!(!b.hides_columns(0, 7, 16 * 100 + 1), "{policy:?}");
     }
 }
 
