@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test on a fresh machine: installs what is missing (the toolchain of
-# rust-toolchain.toml with its targets, QEMU, the toolchain of the workspace's
+# rust-toolchain.toml with its targets, QEMU, flip-link (the firmwares' linker),
+# the toolchain of the workspace's
 # minimum Rust version), then checks formatting and lints,
 # checks the workspace with its minimum Rust version, builds the library for
 # bare-metal targets, and runs the whole suite: host unit and system tests, the QEMU
@@ -13,7 +14,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-echo "== setup"
+# Every step's heading with the minutes and seconds since the start.
+started=$SECONDS
+step() { printf '== [%d:%02d] %s\n' $(((SECONDS - started) / 60)) $(((SECONDS - started) % 60)) "$*"; }
+
+step "setup"
 # The toolchain rust-toolchain.toml names, with its components and targets
 # (older rustup installs it on first use instead).
 rustup toolchain install 2>/dev/null || true
@@ -28,13 +33,17 @@ if ! command -v qemu-system-arm >/dev/null 2>&1; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y qemu-system-arm
 fi
 qemu-system-arm --version | head -n 1
+# The firmwares link through flip-link (the stack below the statics).
+if ! command -v flip-link >/dev/null 2>&1; then
+  cargo install flip-link --locked --version 0.1.12
+fi
 
-echo "== format"
+step "format"
 cargo fmt --all -- --check
 cargo fmt --manifest-path firmware/qemu/Cargo.toml -- --check
 cargo fmt --manifest-path firmware/blackpill/Cargo.toml -- --check
 
-echo "== clippy"
+step "clippy"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings
 cargo clippy --manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi -- -D warnings
@@ -42,34 +51,35 @@ cargo clippy --manifest-path firmware/blackpill/Cargo.toml --release --target th
 # The minimal example firmware (README, "Add it to your firmware") links for the board.
 cargo build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal
 
-echo "== the library's documentation builds without warnings (broken links included)"
+step "the library's documentation builds without warnings (broken links included)"
 RUSTDOCFLAGS="-D warnings" cargo doc -p mcu-abuffer --no-deps
 
-echo "== the library and the scene crate package for crates.io (dry run)"
+step "the library and the scene crate package for crates.io (dry run)"
 cargo publish --dry-run --allow-dirty -p mcu-abuffer -p abuffer-scenes
 
-echo "== the declared minimum Rust version (workspace rust-version) builds everything"
+step "the declared minimum Rust version (workspace rust-version) builds everything"
 msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' Cargo.toml)
 rustup toolchain install "$msrv" --profile minimal >/dev/null
 CARGO_TARGET_DIR=target/msrv cargo +"$msrv" check --workspace --all-targets
 
-echo "== library for Cortex-M4F and Cortex-M0+"
+step "library for Cortex-M4F and Cortex-M0+"
 cargo build -p mcu-abuffer --release --target thumbv7em-none-eabihf
 cargo build -p mcu-abuffer --release --target thumbv6m-none-eabi
 
-echo "== tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump, board link and display path)"
+step "tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump, board link and display path)"
 # The firmware tests skip themselves when QEMU or a Cortex-M target is missing;
 # here both were installed above, so a missing one must fail instead.
 export ABUFFER_REQUIRE_QEMU=1
 cargo test --workspace
 
-echo "== board: the runner's chip is one probe-rs knows, with memory.x's flash and RAM (probe-rs if installed, else the copy of its target description)"
+step "board: the runner's chip is one probe-rs knows, with memory.x's flash and RAM (probe-rs if installed, else the copy of its target description)"
 bash scripts/check-board-chip.sh
 
-echo "== fuzz: 10 s per target from the seed corpus with a fixed seed (installs nightly and cargo-fuzz)"
+step "fuzz: 10 s per target from the seed corpus with a fixed seed (installs nightly)"
 # A fixed seed makes the run reproducible: the same inputs on every machine, in
 # the same order. Exploring new inputs is `bash scripts/fuzz.sh SECONDS`.
 FUZZ_SEED=1 bash scripts/fuzz.sh 10
 
-echo "== main job: render a built-in scene"
+step "main job: render a built-in scene"
 cargo run --release -p host-sim -- render --scene teapot --out target/teapot.png
+step "done"

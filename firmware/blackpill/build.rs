@@ -7,7 +7,7 @@
 //! | `BOARD_BAND` | rows per band (render band and each of the two DMA buffers) | 6 |
 //! | `BOARD_POOL` | shared pool slots | 512 |
 //! | `BOARD_MAIN`, `BOARD_EXTRA` | fragment slots and pool addresses per pixel | 1, 2 |
-//! | `BOARD_STACK_RESERVE` | bytes kept free for the stack | 10240 |
+//! | `BOARD_STACK_RESERVE` | bytes kept free for the stack | 10240 (`mcu_abuffer::memory::defaults`) |
 //!
 //! The image is 240 x 240 with the 4x4 sample grid; the defaults are
 //! `abuffer_panel::demo::defaults`, which the host tests of the display path use too.
@@ -19,6 +19,7 @@ use abuffer_scenes::builtins::builtin_scene;
 use abuffer_scenes::fixed_bits::check_convertible;
 use abuffer_scenes::scene_file::load_scene_file;
 use mcu_abuffer::memory::bytes;
+use mcu_abuffer::memory::defaults::STACK_RESERVE_BYTES;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -77,7 +78,7 @@ fn main() {
     let pool = env_num("BOARD_POOL", defaults::POOL_SLOTS);
     let main_slots = env_num("BOARD_MAIN", defaults::MAIN_SLOTS as usize);
     let extra = env_num("BOARD_EXTRA", defaults::EXTRA_ADDRESSES as usize);
-    let stack_reserve = env_num("BOARD_STACK_RESERVE", 10240);
+    let stack_reserve = env_num("BOARD_STACK_RESERVE", STACK_RESERVE_BYTES);
     if main_slots == 0 || main_slots + extra > 255 {
         fail(&format!(
             "BOARD_MAIN={main_slots} BOARD_EXTRA={extra}: need 1 <= main and main + extra <= 255"

@@ -10,10 +10,10 @@
 //! | `FIRMWARE_FRAMES` | turntable frames, evenly spaced over 360 degrees | 4 |
 //! | `FIRMWARE_METHOD` | `split-bands`, `shared`, `fixed-discard`, `fixed-merge`, `merge-closest`, `unlimited`, `zbuffer` | `split-bands` |
 //! | `FIRMWARE_GRID` | `4x4`, `8x4`, `8x8` | `4x4` |
-//! | `FIRMWARE_BAND` | band height in rows | 8 |
-//! | `FIRMWARE_MAIN`, `FIRMWARE_EXTRA`, `FIRMWARE_POOL` | `N_main`, `N_extra`, `N_pool` | 1, 2, 512 |
-//! | `FIRMWARE_FIXED` | `N_fixed` for the fixed methods | 3 |
-//! | `FIRMWARE_STACK_RESERVE` | bytes kept free for the stack | 10240 |
+//! | `FIRMWARE_BAND` | band height in rows | 8 (`mcu_abuffer::memory::defaults`) |
+//! | `FIRMWARE_MAIN`, `FIRMWARE_EXTRA`, `FIRMWARE_POOL` | `N_main`, `N_extra`, `N_pool` | 1, 2, 512 (the same) |
+//! | `FIRMWARE_FIXED` | `N_fixed` for the fixed methods | 3 (the same) |
+//! | `FIRMWARE_STACK_RESERVE` | bytes kept free for the stack | 10240 (the same) |
 //!
 //! Parameters that do not fit the board's RAM (or a mesh that does not fit its flash)
 //! stop the build with a message naming them and the overshoot.
@@ -23,7 +23,7 @@ use abuffer_scenes::builtins::builtin_scene;
 use abuffer_scenes::fixed_bits::{check_convertible, coord_bits};
 use abuffer_scenes::scene_desc::SceneDesc;
 use abuffer_scenes::scene_file::load_scene_file;
-use mcu_abuffer::memory::bytes;
+use mcu_abuffer::memory::{bytes, defaults};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -143,8 +143,16 @@ fn main() {
     let frames = env_num("FIRMWARE_FRAMES", 4).max(1);
     let method = env("FIRMWARE_METHOD").unwrap_or_else(|| "split-bands".into());
     let grid = env("FIRMWARE_GRID").unwrap_or_else(|| "4x4".into());
-    let band = env_num("FIRMWARE_BAND", 8).clamp(1, desc.height as usize);
-    let fixed = env_num("FIRMWARE_FIXED", 3);
+    let band =
+        env_num("FIRMWARE_BAND", defaults::BAND_ROWS as usize).clamp(1, desc.height as usize);
+    let fixed = env_num("FIRMWARE_FIXED", defaults::FIXED_SLOTS as usize);
+    let sized = || {
+        (
+            env_num("FIRMWARE_MAIN", defaults::MAIN_SLOTS as usize),
+            env_num("FIRMWARE_EXTRA", defaults::EXTRA_ADDRESSES as usize),
+            env_num("FIRMWARE_POOL", defaults::POOL_SLOTS),
+        )
+    };
     let (mask_type, mask_bytes, samples) = match grid.as_str() {
         "4x4" => ("Mask4x4", 2, 16),
         "8x4" => ("Mask8x4", 4, 32),
@@ -152,9 +160,18 @@ fn main() {
         other => fail(&format!("FIRMWARE_GRID={other}: use 4x4, 8x4 or 8x8")),
     };
     let (policy, main, extra, pool) = match method.as_str() {
-        "shared" => ("MergeFarthest", env_num("FIRMWARE_MAIN", 1), env_num("FIRMWARE_EXTRA", 2), env_num("FIRMWARE_POOL", 512)),
-        "merge-closest" => ("MergeClosest", env_num("FIRMWARE_MAIN", 1), env_num("FIRMWARE_EXTRA", 2), env_num("FIRMWARE_POOL", 512)),
-        "split-bands" => ("SplitBands", env_num("FIRMWARE_MAIN", 1), env_num("FIRMWARE_EXTRA", 2), env_num("FIRMWARE_POOL", 512)),
+        "shared" => {
+            let (main, extra, pool) = sized();
+            ("MergeFarthest", main, extra, pool)
+        }
+        "merge-closest" => {
+            let (main, extra, pool) = sized();
+            ("MergeClosest", main, extra, pool)
+        }
+        "split-bands" => {
+            let (main, extra, pool) = sized();
+            ("SplitBands", main, extra, pool)
+        }
         "fixed-discard" => ("Discard", fixed, 0, 0),
         "fixed-merge" => ("MergeFarthest", fixed, 0, 0),
         "unlimited" => ("MergeFarthest", 1, samples - 1, desc.width as usize * band * (samples - 1)),
@@ -169,7 +186,7 @@ fn main() {
             "FIRMWARE_POOL={pool}: a pool address is 16 bits, so at most 65535 slots"
         ));
     }
-    let stack_reserve = env_num("FIRMWARE_STACK_RESERVE", 10240);
+    let stack_reserve = env_num("FIRMWARE_STACK_RESERVE", defaults::STACK_RESERVE_BYTES);
 
     // The scene as Rust statics, and what they will take.
     let baked = bake_scene(&desc, &format!("FIRMWARE_SCENE={spec}"));

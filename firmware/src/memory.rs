@@ -293,6 +293,28 @@ impl<
     }
 }
 
+/// The default memory configuration: what the QEMU firmware, `host-sim`'s
+/// commands and the examples use when no size is given (SPEC section 4's
+/// parameters). With 4x4 masks at 240 pixels a band of this configuration
+/// takes 43,648 bytes; the board demo keeps these per-pixel sizes but uses
+/// 6-row bands, the tallest that leave its two DMA line buffers and its stack
+/// room in 128 KiB.
+pub mod defaults {
+    /// Rows per band.
+    pub const BAND_ROWS: u16 = 8;
+    /// Fragment slots per pixel in the main buffer (`N_main`).
+    pub const MAIN_SLOTS: u8 = 1;
+    /// Pool addresses per pixel (`N_extra`).
+    pub const EXTRA_ADDRESSES: u8 = 2;
+    /// Shared pool slots per band (`N_pool`).
+    pub const POOL_SLOTS: usize = 512;
+    /// Fragment slots per pixel of the fixed-allocation methods (`N_fixed`).
+    pub const FIXED_SLOTS: u8 = 3;
+    /// Bytes of RAM the firmware build scripts and `host-sim fit` keep free
+    /// for the stack (the deepest frame measured is about 7.6 KB).
+    pub const STACK_RESERVE_BYTES: usize = 10 * 1024;
+}
+
 /// The byte counts of [`FragmentMemory`], [`ZBufferMemory`] and
 /// [`WorkspaceMemory`] for sizes known only when a program runs (build
 /// scripts that check a configuration against a board's SRAM, `host-sim

@@ -3,6 +3,7 @@
 //! SysTick counts.
 
 use crate::qemu::{build_m4, decode_defmt, run_m4, FirmwareConfig};
+use mcu_abuffer::memory::defaults;
 use std::fmt::Write as _;
 use std::time::Duration;
 
@@ -27,13 +28,13 @@ pub struct BenchArgs {
     )]
     pub methods: Vec<String>,
     /// `N_fixed` for the fixed methods.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = defaults::FIXED_SLOTS)]
     pub fixed: u8,
     /// Rows per band.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = defaults::BAND_ROWS)]
     pub band: u16,
     /// Shared pool slots per band (shared and merge-closest).
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = defaults::POOL_SLOTS)]
     pub pool: usize,
     /// Also print the per-stage profile of each run (a separate, instrumented build).
     #[arg(long)]

@@ -10,6 +10,7 @@ use crate::compare::nmse;
 use crate::convert::to_fixed;
 use crate::plot::{LineChart, Point, Scale, Series, PALETTE};
 use crate::render::{render, Method, RenderConfig};
+use mcu_abuffer::memory::defaults;
 use std::fmt::Write as _;
 use std::time::Duration;
 
@@ -38,16 +39,16 @@ pub struct BoundedArgs {
     #[arg(long, default_value_t = 8)]
     pub frames: u32,
     /// Rows per band.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = defaults::BAND_ROWS)]
     pub band: u16,
     /// Main slots per pixel.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = defaults::MAIN_SLOTS)]
     pub main: u8,
     /// Pool addresses per pixel.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = defaults::EXTRA_ADDRESSES)]
     pub extra: u8,
     /// Shared pool slots.
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = defaults::POOL_SLOTS)]
     pub pool: usize,
     /// Image width and height.
     #[arg(long, default_value_t = 240)]

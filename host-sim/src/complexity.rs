@@ -7,8 +7,9 @@ use crate::heat::{count_color, count_heat_map};
 use crate::image_io::write_png;
 use crate::memory::{band_memory, MemoryReport};
 use crate::plot::{bar_panels_svg, BarPanel};
-use crate::render::{default_pool, render, Grid, Method, RenderConfig, RenderOutput};
+use crate::render::{render, Grid, Method, RenderConfig, RenderOutput};
 use crate::scene_desc::SceneDesc;
+use mcu_abuffer::memory::defaults;
 use std::path::{Path, PathBuf};
 
 /// Fragments per pixel at which the heat maps reach their brightest color (the
@@ -34,16 +35,16 @@ pub struct StatsArgs {
     #[arg(long, value_enum, default_value_t = Grid::G4x4)]
     pub grid: Grid,
     /// Main fragment slots per pixel (N_main).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = defaults::MAIN_SLOTS)]
     pub main: u8,
     /// Pool addresses per pixel (N_extra).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = defaults::EXTRA_ADDRESSES)]
     pub extra: u8,
-    /// Shared pool slots per band (N_pool); default: half the pixels of a band.
+    /// Shared pool slots per band (N_pool); default: the library's (512).
     #[arg(long)]
     pub pool: Option<usize>,
     /// Band height in rows (R).
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = defaults::BAND_ROWS)]
     pub band: u16,
     /// Turntable angle in degrees.
     #[arg(long, default_value_t = 0.0)]
@@ -65,7 +66,7 @@ pub struct StatsConfig {
     pub main: u8,
     /// `N_extra`.
     pub extra: u8,
-    /// `N_pool` (`None`: half the band's pixels).
+    /// `N_pool` (`None`: the library's default).
     pub pool: Option<usize>,
     /// Band height `R`.
     pub band: u16,
@@ -152,7 +153,7 @@ pub fn measure(
         angle,
     )?;
     let band = config.band.clamp(1, scene.height);
-    let pool = config.pool.unwrap_or(default_pool(scene.width, band));
+    let pool = config.pool.unwrap_or(defaults::POOL_SLOTS);
     let shared = render(
         scene,
         &RenderConfig {

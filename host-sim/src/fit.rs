@@ -15,6 +15,7 @@ use crate::qemu::{build_m4, FirmwareConfig};
 use crate::render::{render, Grid, Method, RenderConfig};
 use crate::scene_desc::SceneDesc;
 use mcu_abuffer::memory::bytes::{self, FragmentParts, ADDRESS as ADDRESS_BYTES};
+use mcu_abuffer::memory::defaults;
 use std::path::Path;
 
 /// Arguments of `host-sim fit`.
@@ -30,19 +31,19 @@ pub struct FitArgs {
     #[arg(long, default_value_t = 240)]
     pub height: u32,
     /// Band height R.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = defaults::BAND_ROWS)]
     pub band: u16,
     /// Coverage grid.
     #[arg(long, value_enum, default_value_t = Grid::G4x4)]
     pub grid: Grid,
     /// N_main.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = defaults::MAIN_SLOTS)]
     pub main: u8,
     /// N_extra.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = defaults::EXTRA_ADDRESSES)]
     pub extra: u8,
     /// N_pool.
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = defaults::POOL_SLOTS)]
     pub pool: usize,
     /// N_fixed of the fixed allocation compared against (default N_main + N_extra).
     #[arg(long)]
@@ -51,7 +52,7 @@ pub struct FitArgs {
     #[arg(long, default_value = "128K", value_parser = parse_bytes)]
     pub ram: usize,
     /// Bytes kept free for the stack (the firmware build scripts' default).
-    #[arg(long, default_value_t = 10240)]
+    #[arg(long, default_value_t = defaults::STACK_RESERVE_BYTES)]
     pub stack: usize,
     /// Also run a turntable of this many frames on the host: worst pool peak.
     #[arg(long)]
@@ -284,7 +285,8 @@ pub struct LinkReport {
     pub bss: u64,
     /// `.uninit` bytes.
     pub uninit: u64,
-    /// RAM from the memory layout (`_stack_start` minus the RAM origin).
+    /// RAM from the memory layout (`_ram_end` minus the RAM origin; the linker
+    /// script's `_stack_start` where an older cortex-m-rt has no `_ram_end`).
     pub ram: u64,
     /// Stack: `_stack_start - _stack_end`.
     pub stack: u64,
@@ -340,7 +342,11 @@ pub fn read_link_report(elf: &Path) -> Result<LinkReport, String> {
         data: section(".data"),
         bss: section(".bss"),
         uninit: section(".uninit"),
-        ram: stack_start.saturating_sub(ram_origin),
+        // flip-link moves the stack to the bottom of RAM, so the stack's start is
+        // not the end of RAM; cortex-m-rt's `_ram_end` is, either way.
+        ram: symbol("_ram_end")
+            .unwrap_or(stack_start)
+            .saturating_sub(ram_origin),
         stack: stack_start.saturating_sub(stack_end),
         flash: [".vector_table", ".text", ".rodata", ".data"]
             .iter()

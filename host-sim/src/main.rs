@@ -7,6 +7,7 @@ use host_sim::image_io::write_png;
 use host_sim::render::{render, Grid, Method, MidpointSettings, RenderConfig};
 use host_sim::scene_desc::SceneDesc;
 use host_sim::scene_file::load_scene_file;
+use mcu_abuffer::memory::defaults;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -69,19 +70,19 @@ struct RenderArgs {
     #[arg(long, value_enum, default_value_t = Grid::G4x4)]
     grid: Grid,
     /// Main fragment slots per pixel (N_main), for shared and merge-closest.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = defaults::MAIN_SLOTS)]
     main: u8,
     /// Pool addresses per pixel (N_extra), for shared and merge-closest.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = defaults::EXTRA_ADDRESSES)]
     extra: u8,
-    /// Shared pool slots (N_pool); default: half the pixels of a band.
-    #[arg(long)]
-    pool: Option<usize>,
+    /// Shared pool slots per band (N_pool).
+    #[arg(long, default_value_t = defaults::POOL_SLOTS)]
+    pool: usize,
     /// Fragment slots per pixel (N_fixed), for fixed-discard and fixed-merge.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = defaults::FIXED_SLOTS)]
     fixed: u8,
     /// Band height in rows (R).
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = defaults::BAND_ROWS)]
     band: u16,
     /// Turntable angle in degrees (rotation of every object about the world Y axis).
     #[arg(long, default_value_t = 0.0)]
@@ -163,7 +164,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         grid: args.grid,
         main: args.main,
         extra: args.extra,
-        pool: args.pool,
+        pool: Some(args.pool),
         fixed: args.fixed,
         band: args.band,
         ssaa: args.ssaa,

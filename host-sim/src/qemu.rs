@@ -4,6 +4,7 @@
 //! time, so every configuration is its own build. A run writes `frame-NNN.ppm` and
 //! `stats.csv` through semihosting into a work folder; this module reads them back.
 
+use mcu_abuffer::memory::defaults;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::Mutex;
@@ -49,11 +50,11 @@ impl Default for FirmwareConfig {
             frames: 4,
             method: "shared".into(),
             grid: "4x4".into(),
-            band: 8,
-            main: 1,
-            extra: 2,
-            pool: 512,
-            fixed: 3,
+            band: defaults::BAND_ROWS,
+            main: defaults::MAIN_SLOTS,
+            extra: defaults::EXTRA_ADDRESSES,
+            pool: defaults::POOL_SLOTS,
+            fixed: defaults::FIXED_SLOTS,
         }
     }
 }
@@ -129,6 +130,18 @@ pub fn build_firmware(
     features: &[&str],
     dest: &Path,
 ) -> Result<(), String> {
+    build_firmware_bin(target, target.bin(), config, features, dest)
+}
+
+/// Builds binary `bin` of the QEMU firmware workspace for `target`'s machine
+/// (for example `qemu-stack-overflow` for the M4) and copies the ELF to `dest`.
+pub fn build_firmware_bin(
+    target: FirmwareTarget,
+    bin: &str,
+    config: &FirmwareConfig,
+    features: &[&str],
+    dest: &Path,
+) -> Result<(), String> {
     let _guard = BUILD_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let root = repo_root();
     let mut all_features = vec![target.feature()];
@@ -137,7 +150,7 @@ pub fn build_firmware(
     let args = [
         "--no-default-features",
         "--bin",
-        target.bin(),
+        bin,
         "--target",
         target.triple(),
         "--features",
@@ -148,7 +161,7 @@ pub fn build_firmware(
         .join("firmware/qemu/target")
         .join(target.triple())
         .join("release")
-        .join(target.bin());
+        .join(bin);
     std::fs::copy(&elf, dest).map_err(|e| format!("{}: {e}", elf.display()))?;
     Ok(())
 }
@@ -183,10 +196,15 @@ fn cargo_build_in<K: AsRef<std::ffi::OsStr>>(
             .filter(|l| l.starts_with("error") || l.contains("does not fit"))
             .collect::<Vec<_>>()
             .join("\n");
-        return Err(if reason.is_empty() {
-            stderr.into_owned()
+        let hint = if stderr.contains("linker `flip-link` not found") {
+            "\nthe firmwares link through flip-link: cargo install flip-link"
         } else {
-            reason
+            ""
+        };
+        return Err(if reason.is_empty() {
+            format!("{stderr}{hint}")
+        } else {
+            format!("{reason}{hint}")
         });
     }
     Ok(())

@@ -8,6 +8,7 @@ use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::fragment_buffer::{BufferConfig, OverflowPolicy};
+use mcu_abuffer::memory::defaults;
 use mcu_abuffer::pool::PoolAddress;
 use mcu_abuffer::renderer::FrameOptions;
 use mcu_abuffer::scene::Scene;
@@ -89,7 +90,7 @@ pub struct RenderConfig {
     pub main: u8,
     /// `N_extra` (shared, merge-closest).
     pub extra: u8,
-    /// `N_pool`; `None` picks [`default_pool`].
+    /// `N_pool`; `None` picks the library's default (`defaults::POOL_SLOTS`).
     pub pool: Option<usize>,
     /// `N_fixed` (fixed-discard, fixed-merge).
     pub fixed: u8,
@@ -149,20 +150,15 @@ impl Default for RenderConfig {
         Self {
             method: Method::Shared,
             grid: Grid::G4x4,
-            main: 1,
-            extra: 2,
+            main: defaults::MAIN_SLOTS,
+            extra: defaults::EXTRA_ADDRESSES,
             pool: None,
-            fixed: 3,
-            band: 16,
+            fixed: defaults::FIXED_SLOTS,
+            band: defaults::BAND_ROWS,
             ssaa: 4,
             midpoint: MidpointSettings::default(),
         }
     }
-}
-
-/// The default pool for a band: one slot per two pixels of the band.
-pub fn default_pool(width: u16, band: u16) -> usize {
-    width as usize * band as usize / 2
 }
 
 /// What a rendering produced.
@@ -361,19 +357,19 @@ pub fn render_frames(
             OverflowPolicy::MergeFarthest,
             config.main,
             config.extra,
-            config.pool.unwrap_or(default_pool(w, band)),
+            config.pool.unwrap_or(defaults::POOL_SLOTS),
         ),
         Method::MergeClosest => (
             OverflowPolicy::MergeClosest,
             config.main,
             config.extra,
-            config.pool.unwrap_or(default_pool(w, band)),
+            config.pool.unwrap_or(defaults::POOL_SLOTS),
         ),
         Method::SplitBands => (
             OverflowPolicy::SplitBands,
             config.main,
             config.extra,
-            config.pool.unwrap_or(default_pool(w, band)),
+            config.pool.unwrap_or(defaults::POOL_SLOTS),
         ),
         Method::FixedDiscard => (OverflowPolicy::Discard, config.fixed, 0, 0),
         Method::FixedMerge => (OverflowPolicy::MergeFarthest, config.fixed, 0, 0),

@@ -14,6 +14,7 @@ use crate::render::{render, Grid, Method, RenderConfig, RenderOutput};
 use crate::scene_desc::SceneDesc;
 use embedded_graphics_core::pixelcolor::Rgb888;
 use fixed::types::I16F16;
+use mcu_abuffer::memory::defaults;
 use mcu_abuffer::scene::Shading;
 use std::path::PathBuf;
 
@@ -68,7 +69,7 @@ pub struct ShadingArgs {
     #[arg(long, value_enum, default_value_t = Grid::G4x4)]
     pub grid: Grid,
     /// Band height in rows.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = defaults::BAND_ROWS)]
     pub band: u16,
     /// Turntable angle in degrees.
     #[arg(long, default_value_t = 0.0)]

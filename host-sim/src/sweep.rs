@@ -26,6 +26,7 @@ use crate::memory::{band_memory, MemoryReport};
 use crate::plot::{LineChart, Point, Scale, Series, PALETTE};
 use crate::render::{render, Grid, Method, RenderConfig};
 use indicatif::{ProgressBar, ProgressStyle};
+use mcu_abuffer::memory::defaults;
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -622,7 +623,7 @@ pub struct SweepArgs {
     #[arg(long, value_enum, default_value_t = Grid::G4x4)]
     pub grid: Grid,
     /// Band height in rows (R).
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = defaults::BAND_ROWS)]
     pub band: u16,
     /// Pool slots per band for shared and merge-closest; default: the worst peak.
     #[arg(long)]

@@ -16,6 +16,7 @@ use crate::convert::to_fixed;
 use crate::fit::{budget, parse_bytes, FitArgs};
 use crate::qemu::{build_m4, run_m4, FirmwareConfig};
 use crate::render::{render, Grid, Method, RenderConfig};
+use mcu_abuffer::memory::defaults;
 use std::time::Duration;
 
 /// Arguments of `host-sim tune`.
@@ -31,7 +32,7 @@ pub struct TuneArgs {
     #[arg(long, default_value = "112K", value_parser = parse_bytes)]
     pub ram: usize,
     /// Bytes kept for the stack.
-    #[arg(long, default_value_t = 10240)]
+    #[arg(long, default_value_t = defaults::STACK_RESERVE_BYTES)]
     pub stack: usize,
     /// Largest NMSE against `unlimited` on any frame.
     #[arg(long, default_value_t = 1e-4)]
@@ -281,7 +282,7 @@ mod tests {
             scene: "spheres".into(),
             frames: 2,
             ram: parse_bytes(ram).unwrap(),
-            stack: 10240,
+            stack: defaults::STACK_RESERVE_BYTES,
             nmse: 1e-4,
             size: 64,
             qemu: false,

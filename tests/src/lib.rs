@@ -528,7 +528,8 @@ pub fn triangle_streams<M: CoverageMask>(
 // ---------------------------------------------------------------------------------
 
 /// Whether the tools a firmware test needs are here: `qemu-system-arm` on the
-/// `PATH` (when `qemu` is set) and the Rust `target` installed. When one is
+/// `PATH` (when `qemu` is set), the Rust `target` installed and `flip-link` (the
+/// firmwares' linker) on the `PATH`. When one is
 /// missing, the test should return early: this prints why and returns `false`,
 /// unless `ABUFFER_REQUIRE_QEMU=1` is set (the README's test command sets it,
 /// after installing both), in which case it panics instead, so that a missing
@@ -556,6 +557,14 @@ pub fn firmware_tools_present(test: &str, target: &str, qemu: bool) -> bool {
         .unwrap_or(true);
     if !installed {
         missing.push(format!("the {target} target (rustup target add {target})"));
+    }
+    // Both firmware workspaces link through flip-link (stack below the statics).
+    if std::process::Command::new("flip-link")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        missing.push("flip-link (cargo install flip-link)".to_string());
     }
     if missing.is_empty() {
         return true;

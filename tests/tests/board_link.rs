@@ -6,10 +6,11 @@
 
 use host_sim::fit::read_link_report;
 use host_sim::qemu::build_board;
+use mcu_abuffer::memory::defaults::STACK_RESERVE_BYTES;
 
 const FLASH: u64 = 512 * 1024;
 const RAM: u64 = 128 * 1024;
-const STACK_RESERVE: u64 = 10 * 1024;
+const STACK_RESERVE: u64 = STACK_RESERVE_BYTES as u64;
 
 fn scratch(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("abuffer-board-{}-{name}", std::process::id()));

@@ -242,7 +242,7 @@ fn the_linked_renderer_memory_is_the_counted_one() {
         return;
     }
     use host_sim::fit::{budget, cell_holds, read_link_report, workspace_bytes, FitArgs};
-    use mcu_abuffer::memory::bytes;
+    use mcu_abuffer::memory::{bytes, defaults};
     let config = FirmwareConfig {
         frames: 1,
         ..FirmwareConfig::default()
@@ -284,7 +284,7 @@ fn the_linked_renderer_memory_is_the_counted_one() {
         pool: config.pool,
         fixed: None,
         ram: 128 * 1024,
-        stack: 10240,
+        stack: defaults::STACK_RESERVE_BYTES,
         frames: None,
         link: false,
     };

@@ -16,13 +16,15 @@
 //! command installs both).
 
 use host_sim::convert::to_fixed;
-use host_sim::qemu::{build_m4, repo_root, run_m4, FirmwareConfig};
+use host_sim::qemu::{
+    build_firmware_bin, build_m4, repo_root, run_m4, FirmwareConfig, FirmwareTarget,
+};
 use host_sim::render::{render, RenderConfig};
 use host_sim::scene_file::load_scene_file;
 use std::time::Duration;
 
 /// The stack the build script keeps free by default (`FIRMWARE_STACK_RESERVE`).
-const BUILD_STACK_RESERVE: u64 = 10240;
+const BUILD_STACK_RESERVE: u64 = mcu_abuffer::memory::defaults::STACK_RESERVE_BYTES as u64;
 
 /// The value of symbol `name` in a 32-bit little-endian ELF file.
 fn elf_symbol(elf: &[u8], name: &str) -> Option<u32> {
@@ -131,5 +133,58 @@ fn extreme_scene_on_the_m4_matches_the_host_and_its_stack_fits() {
     assert!(
         peak + 1024 <= BUILD_STACK_RESERVE,
         "stack high-water mark {peak} bytes is within 1 KiB of the {BUILD_STACK_RESERVE}-byte reserve the build keeps free"
+    );
+}
+
+/// flip-link places the stack below the statics, so a stack overflow faults
+/// instead of overwriting the fragment pool: the M4 firmware's layout has the
+/// stack at the start of RAM with the lowest static (`STATICS_CANARY`) right
+/// above it, and a firmware that recurses without end (`qemu-stack-overflow`,
+/// with the renderer's static buffers lent out) ends in the hard-fault handler,
+/// which finds the stack pointer below the stack and the canary unchanged.
+#[test]
+fn a_stack_overflow_faults_and_leaves_the_statics_intact() {
+    if !system_tests::firmware_tools_present(
+        "a_stack_overflow_faults_and_leaves_the_statics_intact",
+        "thumbv7em-none-eabihf",
+        true,
+    ) {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("abuffer-qemu-{}-overflow", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let elf = dir.join("firmware.elf");
+    build_firmware_bin(
+        FirmwareTarget::M4,
+        "qemu-stack-overflow",
+        &FirmwareConfig::default(),
+        &[],
+        &elf,
+    )
+    .unwrap_or_else(|e| panic!("firmware build failed: {e}"));
+
+    // The layout: RAM starts at 0x2000_0000 (firmware/qemu/memory/mps2-an386.x).
+    let bytes = std::fs::read(&elf).unwrap();
+    let start = elf_symbol(&bytes, "_stack_start").expect("_stack_start");
+    let end = elf_symbol(&bytes, "_stack_end").expect("_stack_end");
+    let canary = elf_symbol(&bytes, "STATICS_CANARY").expect("STATICS_CANARY");
+    assert_eq!(
+        end, 0x2000_0000,
+        "the stack does not start at the RAM's start"
+    );
+    assert!(start > end, "empty stack");
+    assert_eq!(
+        canary, start,
+        "the lowest static is not right above the stack"
+    );
+
+    let error = match run_m4(&elf, &dir, Duration::from_secs(120)) {
+        Ok(_) => panic!("the runaway recursion ended without a fault"),
+        Err(e) => e,
+    };
+    assert!(
+        error.contains("hard fault: stack overflow") && error.contains("statics intact"),
+        "{error}"
     );
 }

@@ -152,6 +152,111 @@ pub fn fail(message: &str) -> ! {
     loop {}
 }
 
+/// Makes the 4 KiB below the stack a no-access MPU region (region 0; the rest
+/// of the memory map keeps its default attributes). 4 KiB is more than any one
+/// stack frame of the firmware, so no push can jump over it.
+///
+/// flip-link puts the stack at the start of RAM, so an overflow leaves the RAM,
+/// where a chip's reserved addresses fault. QEMU's `mps2-an386` instead answers
+/// the addresses below its RAM as an unimplemented device that ignores writes,
+/// and a runaway stack would go on down to the code; with this guard the first
+/// push below the stack faults there too.
+pub fn guard_below_stack(mpu: &mut cortex_m::peripheral::MPU) {
+    extern "C" {
+        static _stack_end: u32;
+    }
+    const GUARD_BYTES: u32 = 4096;
+    let stack_end = core::ptr::addr_of!(_stack_end) as u32;
+    let base = (stack_end & !(GUARD_BYTES - 1)).wrapping_sub(GUARD_BYTES);
+    const ENABLE: u32 = 1;
+    const SIZE_FIELD: u32 = (GUARD_BYTES.trailing_zeros() - 1) << 1;
+    const NO_ACCESS: u32 = 0 << 24;
+    const EXECUTE_NEVER: u32 = 1 << 28;
+    const MPU_ENABLE: u32 = 1;
+    const DEFAULT_MAP_FOR_PRIVILEGED: u32 = 1 << 2;
+    // SAFETY: region 0 covers only the 4 KiB below the stack, which no code
+    // uses; every other address keeps the default map (PRIVDEFENA), and the
+    // barriers make the new map apply before the next access.
+    unsafe {
+        mpu.rnr.write(0);
+        mpu.rbar.write(base);
+        mpu.rasr
+            .write(EXECUTE_NEVER | NO_ACCESS | SIZE_FIELD | ENABLE);
+        mpu.ctrl.write(MPU_ENABLE | DEFAULT_MAP_FOR_PRIVILEGED);
+    }
+    cortex_m::asm::dsb();
+    cortex_m::asm::isb();
+}
+
+/// A word that starts at the lowest address of the statics, directly above the
+/// stack (flip-link places the stack below them): a stack overflow that reached
+/// the statics would overwrite it first. The hard-fault report checks it.
+#[no_mangle]
+#[used]
+pub static STATICS_CANARY: AtomicU32 = AtomicU32::new(STATICS_CANARY_VALUE);
+
+/// What [`STATICS_CANARY`] holds while nothing has overwritten it.
+pub const STATICS_CANARY_VALUE: u32 = 0x5AFE_57A7;
+
+// The hard-fault handler, entered straight from the vector table. After a stack
+// overflow the stack pointer lies below the stack, so the handler hands it to
+// the report as its argument and first moves it back to the top of the stack
+// (nothing returns from here).
+core::arch::global_asm!(
+    ".section .HardFault.user, \"ax\"",
+    ".global HardFault",
+    ".type HardFault, %function",
+    ".thumb_func",
+    "HardFault:",
+    "mrs r0, msp",
+    "ldr r1, =_stack_start",
+    "msr msp, r1",
+    "b {report}",
+    report = sym hard_fault_report,
+);
+
+/// Reports a hard fault and exits QEMU with a failure code: whether the stack
+/// pointer had run below the stack (an overflow) and whether the statics above
+/// the stack are intact.
+extern "C" fn hard_fault_report(stack_pointer: u32) -> ! {
+    extern "C" {
+        static _stack_end: u32;
+    }
+    let stack_end = core::ptr::addr_of!(_stack_end) as u32;
+    let cause = if stack_pointer < stack_end {
+        "stack overflow"
+    } else {
+        "fault"
+    };
+    let statics = if STATICS_CANARY.load(Ordering::Relaxed) == STATICS_CANARY_VALUE {
+        "intact"
+    } else {
+        "overwritten"
+    };
+    let mut message = [0u8; 96];
+    let text = format_fault(&mut message, cause, stack_pointer, statics);
+    fail(text)
+}
+
+/// `"hard fault: CAUSE (stack pointer 0xXXXXXXXX); statics STATE"` in `buffer`.
+fn format_fault<'a>(buffer: &'a mut [u8; 96], cause: &str, sp: u32, statics: &str) -> &'a str {
+    let mut len = 0;
+    let mut put = |bytes: &[u8]| {
+        let n = bytes.len().min(buffer.len() - len);
+        buffer[len..len + n].copy_from_slice(&bytes[..n]);
+        len += n;
+    };
+    put(b"hard fault: ");
+    put(cause.as_bytes());
+    put(b" (stack pointer 0x");
+    for shift in (0..8).rev() {
+        put(&[b"0123456789abcdef"[(sp >> (4 * shift)) as usize & 15]]);
+    }
+    put(b"); statics ");
+    put(statics.as_bytes());
+    core::str::from_utf8(&buffer[..len]).unwrap_or("hard fault")
+}
+
 #[panic_handler]
 fn panic(_info: &core::panic::PanicInfo) -> ! {
     fail("panic");

@@ -169,6 +169,7 @@ fn main() -> ! {
         Some(p) => p,
         None => fail("peripherals taken twice"),
     };
+    guard_below_stack(&mut core.MPU);
     start_tick_counter(&mut core.SYST);
     let oled = Oled::init();
     with_buffers(Frame {
