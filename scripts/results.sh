@@ -78,7 +78,7 @@ done
 
 # Bounded memory against unlimited over an 8-frame turntable: the default M4
 # memory (band 8, pool 512) and the host defaults (band 16, pool 1,920).
-"$HS" bounded --band 8 --pool 512 --row-plot "$OUT/bounded-rows-teapot.svg" >"$OUT/bounded-m4.md"
+"$HS" bounded --row-plot "$OUT/bounded-rows-teapot.svg" >"$OUT/bounded-m4.md"
 "$HS" bounded --band 16 --pool 1920 >"$OUT/bounded-host.md"
 # The fastest configuration within 112 KiB and 96 KiB (host times decide).
 for s in teapot spheres; do
@@ -88,7 +88,7 @@ for s in teapot spheres; do
 done >"$OUT/tune.md"
 
 # The dynamic mode: a turntable with per-frame statistics.
-"$HS" render --scene starfighter --width 160 --height 160 --turntable --frames 24 \
+"$HS" render --scene starfighter --width 160 --height 160 "${BAND[@]}" --pool 1280 --turntable --frames 24 \
   --out "$OUT/starfighter-turntable.gif" >"$OUT/starfighter-turntable.txt"
 
 echo "wrote $OUT/"

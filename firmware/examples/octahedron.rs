@@ -17,7 +17,7 @@ use static_cell::ConstStaticCell;
 const WIDTH: usize = 240;
 const HEIGHT: usize = 240;
 
-static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, WIDTH, 8, 1, 2, 512>> =
+static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, WIDTH, 6, 1, 2, 1152>> =
     ConstStaticCell::new(FragmentMemory::new());
 static WORKSPACE: ConstStaticCell<WorkspaceMemory<WIDTH, HEIGHT, 1, 6, 8>> =
     ConstStaticCell::new(WorkspaceMemory::new());

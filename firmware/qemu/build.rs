@@ -10,8 +10,8 @@
 //! | `FIRMWARE_FRAMES` | turntable frames, evenly spaced over 360 degrees | 4 |
 //! | `FIRMWARE_METHOD` | `split-bands`, `shared`, `fixed-discard`, `fixed-merge`, `merge-closest`, `unlimited`, `zbuffer` | `split-bands` |
 //! | `FIRMWARE_GRID` | `4x4`, `8x4`, `8x8` | `4x4` |
-//! | `FIRMWARE_BAND` | band height in rows | 8 (`mcu_abuffer::memory::defaults`) |
-//! | `FIRMWARE_MAIN`, `FIRMWARE_EXTRA`, `FIRMWARE_POOL` | `N_main`, `N_extra`, `N_pool` | 1, 2, 512 (the same) |
+//! | `FIRMWARE_BAND` | band height in rows | 6, `zbuffer` 24 (`mcu_abuffer::memory::defaults`) |
+//! | `FIRMWARE_MAIN`, `FIRMWARE_EXTRA`, `FIRMWARE_POOL` | `N_main`, `N_extra`, `N_pool` | 1, 2, 1152 (the same) |
 //! | `FIRMWARE_FIXED` | `N_fixed` for the fixed methods | 3 (the same) |
 //! | `FIRMWARE_STACK_RESERVE` | bytes kept free for the stack | 10240 (the same) |
 //!
@@ -143,8 +143,8 @@ fn main() {
     let frames = env_num("FIRMWARE_FRAMES", 4).max(1);
     let method = env("FIRMWARE_METHOD").unwrap_or_else(|| "split-bands".into());
     let grid = env("FIRMWARE_GRID").unwrap_or_else(|| "4x4".into());
-    let band =
-        env_num("FIRMWARE_BAND", defaults::BAND_ROWS as usize).clamp(1, desc.height as usize);
+    let default_band = defaults::band_rows(method == "zbuffer") as usize;
+    let band = env_num("FIRMWARE_BAND", default_band).clamp(1, desc.height as usize);
     let fixed = env_num("FIRMWARE_FIXED", defaults::FIXED_SLOTS as usize);
     let sized = || {
         (

@@ -14,13 +14,14 @@
 //! use mcu_abuffer::memory::{FragmentMemory, WorkspaceMemory};
 //! use mcu_abuffer::{Mask4x4, OverflowPolicy, Renderer};
 //!
-//! // 240x240, 8-row bands, 1 slot and 2 pool addresses per pixel, 512 pool
-//! // slots; scenes of up to 2 objects, 600 vertices and 1,000 triangles.
-//! type Fragments = FragmentMemory<Mask4x4, 240, 8, 1, 2, 512>;
+//! // 240x240, 6-row bands, 1 slot and 2 pool addresses per pixel, 1,152 pool
+//! // slots (the sizes of `defaults`); scenes of up to 2 objects, 600
+//! // vertices and 1,000 triangles.
+//! type Fragments = FragmentMemory<Mask4x4, 240, 6, 1, 2, 1152>;
 //! type Workspace = WorkspaceMemory<240, 240, 2, 600, 1000>;
-//! // Per pixel a 14-byte slot, two 2-byte addresses and a count byte; 512
-//! // pool slots of 14 bytes: 240 * 8 * 19 + 512 * 14 bytes.
-//! assert_eq!(Fragments::BYTES, 43_648);
+//! // Per pixel a 14-byte slot, two 2-byte addresses and a count byte; 1,152
+//! // pool slots of 14 bytes: 240 * 6 * 19 + 1,152 * 14 bytes.
+//! assert_eq!(Fragments::BYTES, 43_488);
 //! // 600 screen vertices of 16 bytes, 6 bytes per triangle (its rows and its
 //! // place in the drawing order), 241 row counters, one line of colors, and
 //! // per object its transform.
@@ -32,7 +33,7 @@
 //! let mut workspace = Box::new(Workspace::new());
 //! let buffer = fragments.buffer(OverflowPolicy::SplitBands);
 //! let renderer = Renderer::new(workspace.workspace(), buffer);
-//! assert_eq!(renderer.buffer().config().band_height, 8);
+//! assert_eq!(renderer.buffer().config().band_height, 6);
 //! ```
 
 use crate::coverage::CoverageMask;
@@ -295,24 +296,46 @@ impl<
 
 /// The default memory configuration: what the QEMU firmware, `host-sim`'s
 /// commands and the examples use when no size is given (SPEC section 4's
-/// parameters). With 4x4 masks at 240 pixels a band of this configuration
-/// takes 43,648 bytes; the board demo keeps these per-pixel sizes but uses
-/// 6-row bands, the tallest that leave its two DMA line buffers and its stack
-/// room in 128 KiB.
+/// parameters).
+///
+/// With 4x4 masks at 240 pixels the A-buffer's band takes 43,488 bytes
+/// (6 rows of 19 bytes a pixel, 1,152 pool slots of 14 bytes) and the
+/// z-buffer's 40,320 (24 rows of 7 bytes a pixel). Of the A-buffer layouts of
+/// about that size on the Cortex-M4, 6 rows with this pool drew the built-in
+/// scenes fastest with the default `split-bands` (teapot 45.6 M instructions a
+/// frame, against 49.8 M with 7 rows and 837 slots, 56.7 M with 8 rows and
+/// 512 slots, 46.8 M with 5 rows and 1,488 slots; docs/m4-benchmark.md): a
+/// larger pool splits fewer bands, shorter bands set more triangles up twice.
+/// The board demo keeps these sizes but a pool of 512 slots, which leaves its
+/// two DMA line buffers and its stack room in 128 KiB.
 pub mod defaults {
-    /// Rows per band.
-    pub const BAND_ROWS: u16 = 8;
+    /// Rows per band of the A-buffer.
+    pub const BAND_ROWS: u16 = 6;
+    /// Rows per band of the z-buffer, whose pixels take 7 bytes instead of
+    /// 19: about the A-buffer's band in memory, and fewer bands to set
+    /// triangles up in (teapot 20.5 M instructions a frame, 22.8 M at 8 rows).
+    pub const ZBUFFER_BAND_ROWS: u16 = 24;
     /// Fragment slots per pixel in the main buffer (`N_main`).
     pub const MAIN_SLOTS: u8 = 1;
     /// Pool addresses per pixel (`N_extra`).
     pub const EXTRA_ADDRESSES: u8 = 2;
     /// Shared pool slots per band (`N_pool`).
-    pub const POOL_SLOTS: usize = 512;
+    pub const POOL_SLOTS: usize = 1152;
     /// Fragment slots per pixel of the fixed-allocation methods (`N_fixed`).
     pub const FIXED_SLOTS: u8 = 3;
     /// Bytes of RAM the firmware build scripts and `host-sim fit` keep free
     /// for the stack (the deepest frame measured is about 7.6 KB).
     pub const STACK_RESERVE_BYTES: usize = 10 * 1024;
+
+    /// The default rows per band of a method: [`ZBUFFER_BAND_ROWS`] for the
+    /// z-buffer, [`BAND_ROWS`] for the A-buffer's methods.
+    pub const fn band_rows(zbuffer: bool) -> u16 {
+        if zbuffer {
+            ZBUFFER_BAND_ROWS
+        } else {
+            BAND_ROWS
+        }
+    }
 }
 
 /// The byte counts of [`FragmentMemory`], [`ZBufferMemory`] and

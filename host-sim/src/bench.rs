@@ -30,9 +30,9 @@ pub struct BenchArgs {
     /// `N_fixed` for the fixed methods.
     #[arg(long, default_value_t = defaults::FIXED_SLOTS)]
     pub fixed: u8,
-    /// Rows per band.
-    #[arg(long, default_value_t = defaults::BAND_ROWS)]
-    pub band: u16,
+    /// Rows per band (default: the method's, `memory::defaults::band_rows`).
+    #[arg(long)]
+    pub band: Option<u16>,
     /// Shared pool slots per band (shared and merge-closest).
     #[arg(long, default_value_t = defaults::POOL_SLOTS)]
     pub pool: usize,
@@ -57,14 +57,14 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
     writeln!(table, "|---|---|---|---|---|---|---|---|---|").unwrap();
     for scene in &args.scene {
         for method in &args.methods {
+            let defaults = FirmwareConfig::for_method(method);
             let config = FirmwareConfig {
                 scene: scene.clone(),
                 frames: args.frames,
-                method: method.clone(),
                 fixed: args.fixed,
-                band: args.band,
+                band: args.band.unwrap_or(defaults.band),
                 pool: args.pool,
-                ..FirmwareConfig::default()
+                ..defaults
             };
             let work = dir.join(format!("{}-{method}", scene.replace(['/', ':', '.'], "_")));
             std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;

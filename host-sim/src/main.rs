@@ -81,9 +81,9 @@ struct RenderArgs {
     /// Fragment slots per pixel (N_fixed), for fixed-discard and fixed-merge.
     #[arg(long, default_value_t = defaults::FIXED_SLOTS)]
     fixed: u8,
-    /// Band height in rows (R).
-    #[arg(long, default_value_t = defaults::BAND_ROWS)]
-    band: u16,
+    /// Band height in rows (R); default: the method's (6, the z-buffers 24).
+    #[arg(long)]
+    band: Option<u16>,
     /// Turntable angle in degrees (rotation of every object about the world Y axis).
     #[arg(long, default_value_t = 0.0)]
     angle: f32,
@@ -154,7 +154,12 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
     if args.fixed == 0 && matches!(args.method, Method::FixedDiscard | Method::FixedMerge) {
         return Err("--fixed must be at least 1".into());
     }
-    if args.band == 0 {
+    let zbuffer = matches!(
+        args.method,
+        Method::Zbuffer | Method::ZbufferHiz | Method::ZbufferMidpoint
+    );
+    let band = args.band.unwrap_or(defaults::band_rows(zbuffer));
+    if band == 0 {
         return Err("--band must be at least 1".into());
     }
     let desc = load_scene(&args.scene, args.width, args.height)?;
@@ -166,7 +171,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         extra: args.extra,
         pool: Some(args.pool),
         fixed: args.fixed,
-        band: args.band,
+        band,
         ssaa: args.ssaa,
         midpoint: MidpointSettings {
             initial: args.subdiv_initial,
@@ -207,7 +212,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         "method           {:?} grid {:?} band {} pool {}",
         args.method,
         args.grid,
-        args.band.min(out.height),
+        band.min(out.height),
         out.pool_slots
     );
     println!(

@@ -43,12 +43,14 @@ pub struct FirmwareConfig {
 }
 
 impl Default for FirmwareConfig {
-    /// The default M4 configuration (the firmware build script's defaults).
+    /// The default M4 configuration (the firmware build script's defaults:
+    /// `split-bands` and the library's `memory::defaults`; a configuration
+    /// for another method takes its band from [`FirmwareConfig::for_method`]).
     fn default() -> Self {
         Self {
             scene: "teapot".into(),
             frames: 4,
-            method: "shared".into(),
+            method: "split-bands".into(),
             grid: "4x4".into(),
             band: defaults::BAND_ROWS,
             main: defaults::MAIN_SLOTS,
@@ -60,6 +62,16 @@ impl Default for FirmwareConfig {
 }
 
 impl FirmwareConfig {
+    /// The default configuration for `method`, with the method's default band
+    /// height (`memory::defaults::band_rows`: taller for the z-buffer).
+    pub fn for_method(method: &str) -> Self {
+        Self {
+            method: method.into(),
+            band: defaults::band_rows(method == "zbuffer"),
+            ..Self::default()
+        }
+    }
+
     /// The build script's environment for this configuration.
     pub fn env(&self) -> Vec<(&'static str, String)> {
         vec![

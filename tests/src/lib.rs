@@ -524,6 +524,20 @@ pub fn triangle_streams<M: CoverageMask>(
 }
 
 // ---------------------------------------------------------------------------------
+// Scratch folders of the firmware tests
+// ---------------------------------------------------------------------------------
+
+/// An empty folder `abuffer-NAME-PID` under the system's temporary folder (emptied
+/// first if a previous run left it), where a firmware test puts its ELF and
+/// QEMU's output files.
+pub fn scratch_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("abuffer-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+// ---------------------------------------------------------------------------------
 // Prerequisites of the firmware tests
 // ---------------------------------------------------------------------------------
 

@@ -13,10 +13,7 @@ const RAM: u64 = 128 * 1024;
 const STACK_RESERVE: u64 = STACK_RESERVE_BYTES as u64;
 
 fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("abuffer-board-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    system_tests::scratch_dir(&format!("board-{name}"))
 }
 
 #[test]

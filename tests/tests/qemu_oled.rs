@@ -23,13 +23,11 @@ fn oled_shows_the_host_rendering_in_4_bit_gray() {
     ) {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("abuffer-oled-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = system_tests::scratch_dir("oled");
     let config = FirmwareConfig {
         scene: "teapot:4".into(),
         frames: 1,
-        ..FirmwareConfig::default()
+        ..FirmwareConfig::for_method("shared")
     };
     let elf = dir.join("oled.elf");
     build_firmware(FirmwareTarget::Oled, &config, &[], &elf)

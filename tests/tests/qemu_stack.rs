@@ -72,11 +72,9 @@ fn extreme_scene_on_the_m4_matches_the_host_and_its_stack_fits() {
     let config = FirmwareConfig {
         scene: "tests/data/extreme.toml".into(),
         frames: 2,
-        ..FirmwareConfig::default()
+        ..FirmwareConfig::for_method("shared")
     };
-    let dir = std::env::temp_dir().join(format!("abuffer-qemu-{}-extreme", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = system_tests::scratch_dir("qemu-extreme");
     let elf = dir.join("firmware.elf");
     build_m4(&config, &[], &elf).unwrap_or_else(|e| panic!("firmware build failed: {e}"));
     let run = run_m4(&elf, &dir, Duration::from_secs(900))
@@ -151,9 +149,7 @@ fn a_stack_overflow_faults_and_leaves_the_statics_intact() {
     ) {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("abuffer-qemu-{}-overflow", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = system_tests::scratch_dir("qemu-overflow");
     let elf = dir.join("firmware.elf");
     build_firmware_bin(
         FirmwareTarget::M4,

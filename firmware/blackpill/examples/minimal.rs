@@ -29,10 +29,10 @@ use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::Config;
 use stm32f4xx_hal::spi::{Mode, Phase, Polarity, Spi};
 
-// The renderer: 240x240 in 8-row bands (1 fragment slot and 2 pool addresses
-// per pixel, 512 pool slots: 43,648 bytes), scenes of up to 1 object with 64
-// vertices and 128 triangles.
-static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, 240, 8, 1, 2, 512>> =
+// The renderer: 240x240 in 6-row bands (1 fragment slot and 2 pool addresses
+// per pixel, 1,152 pool slots: 43,488 bytes; the library's `memory::defaults`),
+// scenes of up to 1 object with 64 vertices and 128 triangles.
+static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, 240, 6, 1, 2, 1152>> =
     ConstStaticCell::new(FragmentMemory::new());
 static WORKSPACE: ConstStaticCell<WorkspaceMemory<240, 240, 1, 64, 128>> =
     ConstStaticCell::new(WorkspaceMemory::new());

@@ -162,16 +162,17 @@ pub mod defaults {
     pub const HEIGHT: u16 = 240;
     use mcu_abuffer::memory::defaults as library;
 
-    /// Rows per band (the render band and each of the two transfer buffers):
-    /// fewer than the library's default 8, so that the two transfer buffers and
-    /// the stack fit beside the fragment memory in 128 KiB.
-    pub const BAND_ROWS: u16 = 6;
+    /// Rows per band (the render band and each of the two transfer buffers;
+    /// the library's default).
+    pub const BAND_ROWS: u16 = library::BAND_ROWS;
     /// Fragment slots per pixel in the main buffer (the library's default).
     pub const MAIN_SLOTS: u8 = library::MAIN_SLOTS;
     /// Pool addresses per pixel (the library's default).
     pub const EXTRA_ADDRESSES: u8 = library::EXTRA_ADDRESSES;
-    /// Shared pool slots per band (the library's default).
-    pub const POOL_SLOTS: usize = library::POOL_SLOTS;
+    /// Shared pool slots per band: fewer than the library's default 1,152, so
+    /// that the two transfer buffers, the workspace of the largest scene and
+    /// the stack fit beside the fragment memory in 128 KiB.
+    pub const POOL_SLOTS: usize = 512;
     /// Turntable step per frame, degrees.
     pub const STEP_DEG: i32 = 6;
     /// Seconds each scene is shown.
