@@ -4,8 +4,8 @@
 //! | variable | meaning | default |
 //! |---|---|---|
 //! | `BOARD_SCENES` | comma-separated built-in scenes or scene files (relative to the repository root) | `teapot,spheres,starfighter` |
-//! | `BOARD_BAND` | rows per band (render band and each of the two DMA buffers) | 6 |
-//! | `BOARD_POOL` | shared pool slots | 512 |
+//! | `BOARD_BAND` | rows per band (render band and each of the two DMA buffers) | 5 (`abuffer_panel::demo::defaults`) |
+//! | `BOARD_POOL` | shared pool slots | 906 (the same) |
 //! | `BOARD_MAIN`, `BOARD_EXTRA` | fragment slots and pool addresses per pixel | 1, 2 |
 //! | `BOARD_STACK_RESERVE` | bytes kept free for the stack | 10240 (`mcu_abuffer::memory::defaults`) |
 //!

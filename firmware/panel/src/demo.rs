@@ -162,17 +162,20 @@ pub mod defaults {
     pub const HEIGHT: u16 = 240;
     use mcu_abuffer::memory::defaults as library;
 
-    /// Rows per band (the render band and each of the two transfer buffers;
-    /// the library's default).
-    pub const BAND_ROWS: u16 = library::BAND_ROWS;
+    /// Rows per band (the render band and each of the two transfer buffers).
+    /// The board's RAM also holds the two transfer buffers and the workspace
+    /// of the largest scene, so its fragment memory is smaller than the
+    /// library's default; of the layouts of that size, 5 rows with
+    /// [`POOL_SLOTS`] drew the scenes fastest (teapot 47.0 M instructions a
+    /// frame on the Cortex-M4, 53.9 M with 6 rows and 512 slots, 48.8 M with
+    /// 4 rows and 1,300; docs/board.md).
+    pub const BAND_ROWS: u16 = 5;
     /// Fragment slots per pixel in the main buffer (the library's default).
     pub const MAIN_SLOTS: u8 = library::MAIN_SLOTS;
     /// Pool addresses per pixel (the library's default).
     pub const EXTRA_ADDRESSES: u8 = library::EXTRA_ADDRESSES;
-    /// Shared pool slots per band: fewer than the library's default 1,152, so
-    /// that the two transfer buffers, the workspace of the largest scene and
-    /// the stack fit beside the fragment memory in 128 KiB.
-    pub const POOL_SLOTS: usize = 512;
+    /// Shared pool slots per band (see [`BAND_ROWS`]).
+    pub const POOL_SLOTS: usize = 906;
     /// Turntable step per frame, degrees.
     pub const STEP_DEG: i32 = 6;
     /// Seconds each scene is shown.
