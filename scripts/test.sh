@@ -81,5 +81,7 @@ step "fuzz: 10 s per target from the seed corpus with a fixed seed (installs nig
 FUZZ_SEED=1 bash scripts/fuzz.sh 10
 
 step "main job: render a built-in scene"
-cargo run --release -p host-sim -- render --scene teapot --out target/teapot.png
+# The README's first command, built with the test profile that the tests above
+# compiled it with (the release build would add minutes of compiling here).
+cargo run --profile test -p host-sim -- render --scene teapot --out target/teapot.png
 step "done"

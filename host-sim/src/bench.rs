@@ -70,13 +70,13 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
             std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
             let elf = work.join("firmware.elf");
             if let Err(e) = build_m4(&config, &[], &elf) {
-                let reason = e
-                    .lines()
-                    .find(|l| l.contains("does not fit"))
-                    .unwrap_or("build failed")
-                    .trim();
+                // Memory that does not fit is a result of the table; any other
+                // build failure (a missing tool, a compile error) stops the bench.
+                let Some(reason) = e.lines().find(|l| l.contains("does not fit")) else {
+                    return Err(format!("{scene} {method}: the firmware did not build:\n{e}"));
+                };
                 writeln!(table, "| {scene} | {method} | does not fit | | | | | | |").unwrap();
-                eprintln!("{scene} {method}: {reason}");
+                eprintln!("{scene} {method}: {}", reason.trim());
                 continue;
             }
             let run = run_m4(&elf, &work, Duration::from_secs(600))?;
