@@ -73,7 +73,9 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
                 // Memory that does not fit is a result of the table; any other
                 // build failure (a missing tool, a compile error) stops the bench.
                 let Some(reason) = e.lines().find(|l| l.contains("does not fit")) else {
-                    return Err(format!("{scene} {method}: the firmware did not build:\n{e}"));
+                    return Err(format!(
+                        "{scene} {method}: the firmware did not build:\n{e}"
+                    ));
                 };
                 writeln!(table, "| {scene} | {method} | does not fit | | | | | | |").unwrap();
                 eprintln!("{scene} {method}: {}", reason.trim());
