@@ -11,7 +11,7 @@ llvm-nm or nm), is an exact per-function instruction count of the run.
     python3 scripts/qemu-profile.py firmware.elf [--top 40] [--workdir DIR]
 
 Build the firmware with FIRMWARE_FRAMES=1 first (the log of one 240x240 frame
-is about a gigabyte): `host-sim qemu-bench --profile-functions` does both.
+is about a gigabyte): `cargo xtask profile` builds and profiles the teapot.
 """
 import argparse
 import bisect

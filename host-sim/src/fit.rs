@@ -6,12 +6,12 @@
 //!   scene needs, line buffers and a stack reserve;
 //! - `--frames N`: renders the scene's turntable on the host and reports the worst
 //!   pool peak, and so the smallest pool that never merges;
-//! - `--link`: builds the QEMU M4 firmware with these parameters and reads the
-//!   linker's answer from the ELF.
+//! - `cargo xtask fit-link` (the project's tooling): builds the QEMU M4
+//!   firmware with these parameters and reads the linker's answer from the ELF
+//!   ([`read_link_report`], [`print_link_report`]).
 
 use crate::convert::to_fixed;
 use crate::memory::{band_memory, fragment_bytes};
-use crate::qemu::{build_m4, FirmwareConfig};
 use crate::render::{render, Grid, Method, RenderConfig};
 use crate::scene_desc::SceneDesc;
 use mcu_abuffer::memory::bytes::{self, FragmentParts, ADDRESS as ADDRESS_BYTES};
@@ -57,9 +57,6 @@ pub struct FitArgs {
     /// Also run a turntable of this many frames on the host: worst pool peak.
     #[arg(long)]
     pub frames: Option<u32>,
-    /// Also build the M4 firmware with these parameters and read its ELF.
-    #[arg(long)]
-    pub link: bool,
 }
 
 /// Parses `131072`, `128K` or `128k` (KiB).
@@ -174,8 +171,8 @@ fn print_budget(name: &str, b: &MemoryBudget, ram: usize) {
     );
 }
 
-/// Runs `host-sim fit`.
-pub fn run_fit(args: &FitArgs, mut desc: SceneDesc) -> Result<(), String> {
+/// Runs `host-sim fit` and returns the shared allocation's budget.
+pub fn run_fit(args: &FitArgs, mut desc: SceneDesc) -> Result<MemoryBudget, String> {
     desc.width = args.width;
     desc.height = args.height;
     if args.main == 0 {
@@ -245,35 +242,7 @@ pub fn run_fit(args: &FitArgs, mut desc: SceneDesc) -> Result<(), String> {
         println!("turntable of {frames} frames: worst pool peak {worst}; the smallest N_pool that never merges for want of pool slots is {worst}");
     }
 
-    if args.link {
-        let config = FirmwareConfig {
-            scene: args.scene.clone(),
-            frames: 1,
-            method: "shared".into(),
-            grid: match args.grid {
-                Grid::G4x4 => "4x4",
-                Grid::G8x4 => "8x4",
-                Grid::G8x8 => "8x8",
-            }
-            .into(),
-            band: args.band,
-            main: args.main,
-            extra: args.extra,
-            pool: args.pool,
-            fixed: fixed as u8,
-        };
-        if args.width != 240 || args.height != 240 || args.ram != 128 * 1024 {
-            println!("note: --link builds the default board (240x240 in 128 KiB); width, height and ram here do not change it");
-        }
-        let dir = std::env::temp_dir().join(format!("abuffer-fit-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
-        let elf = dir.join("firmware.elf");
-        match build_m4(&config, &[], &elf) {
-            Ok(()) => print_link_report(&elf, &shared)?,
-            Err(e) => println!("linker: the firmware build refused these parameters:\n{e}"),
-        }
-    }
-    Ok(())
+    Ok(shared)
 }
 
 /// What the linker placed in RAM, read from an ELF.
@@ -360,7 +329,9 @@ pub fn read_link_report(elf: &Path) -> Result<LinkReport, String> {
     })
 }
 
-fn print_link_report(elf: &Path, analytic: &MemoryBudget) -> Result<(), String> {
+/// Prints what the linker placed in RAM in the firmware `elf` and whether the
+/// renderer's statics are the `analytic` budget's bytes.
+pub fn print_link_report(elf: &Path, analytic: &MemoryBudget) -> Result<(), String> {
     let r = read_link_report(elf)?;
     let statics = r.data + r.bss + r.uninit;
     println!("linker ({}):", elf.display());

@@ -5,7 +5,6 @@
 pub use abuffer_scenes::{builtins, obj, scene_desc, scene_file};
 
 pub mod animate;
-pub mod bench;
 pub mod bounded;
 pub mod compare;
 pub mod complexity;
@@ -15,10 +14,48 @@ pub mod heat;
 pub mod image_io;
 pub mod memory;
 pub mod plot;
-pub mod qemu;
 pub mod render;
 pub mod shading_compare;
 pub mod ssaa;
 pub mod sweep;
 pub mod tune;
 pub mod zbuffer_table;
+
+use scene_desc::SceneDesc;
+use std::path::Path;
+
+/// The scene `spec` names: a scene file (`.toml`, or any existing path) or a
+/// built-in scene, at `width` x `height` when given (a built-in's default is
+/// 240x240). An error names the file and line of a malformed scene, or lists
+/// the built-ins for an unknown name.
+pub fn load_scene(
+    spec: &str,
+    width: Option<u32>,
+    height: Option<u32>,
+) -> Result<SceneDesc, String> {
+    let mut desc = if spec.ends_with(".toml") || Path::new(spec).exists() {
+        scene_file::load_scene_file(Path::new(spec)).map_err(|e| e.to_string())?
+    } else {
+        let w = width.unwrap_or(240);
+        let h = height.unwrap_or(240);
+        builtins::builtin_scene(spec, w, h).ok_or_else(|| {
+            format!(
+                "'{spec}' is neither a scene file nor a built-in scene (built-ins: {})",
+                builtins::BUILTIN_SCENES.join(", ")
+            )
+        })?
+    };
+    if let Some(w) = width {
+        desc.width = w;
+    }
+    if let Some(h) = height {
+        desc.height = h;
+    }
+    if !(1..=2048).contains(&desc.width) || !(1..=2048).contains(&desc.height) {
+        return Err(format!(
+            "image size {}x{} is outside 1..=2048",
+            desc.width, desc.height
+        ));
+    }
+    Ok(desc)
+}

@@ -1,14 +1,12 @@
 //! `host-sim`: renders scenes with the `mcu_abuffer` library on the desktop.
 
 use clap::{Parser, Subcommand};
-use host_sim::builtins;
 use host_sim::convert::to_fixed;
 use host_sim::image_io::write_png;
+use host_sim::load_scene;
 use host_sim::render::{render, Grid, Method, MidpointSettings, RenderConfig};
-use host_sim::scene_desc::SceneDesc;
-use host_sim::scene_file::load_scene_file;
 use mcu_abuffer::memory::defaults;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -34,10 +32,8 @@ enum Command {
     Sweep(host_sim::sweep::SweepArgs),
     /// Gouraud, quadratic and phong side by side, with their errors against phong.
     Shading(host_sim::shading_compare::ShadingArgs),
-    /// Whether buffer parameters fit a board's SRAM (analytic, turntable, or linked).
+    /// Whether buffer parameters fit a board's SRAM (analytic, or over a turntable; `cargo xtask fit-link` adds the linker's answer).
     Fit(host_sim::fit::FitArgs),
-    /// Instructions per frame on the Cortex-M4 under QEMU, per scene and method.
-    QemuBench(host_sim::bench::BenchArgs),
     /// Bounded-memory methods against unlimited over a turntable: worst NMSE,
     /// speckles, band-row error ratio, band splits, time (a Markdown table).
     Bounded(host_sim::bounded::BoundedArgs),
@@ -112,34 +108,6 @@ struct RenderArgs {
     /// so that only the "hidden" verdict can be wrong.
     #[arg(long)]
     midpoint_safe: bool,
-}
-
-fn load_scene(spec: &str, width: Option<u32>, height: Option<u32>) -> Result<SceneDesc, String> {
-    let mut desc = if spec.ends_with(".toml") || Path::new(spec).exists() {
-        load_scene_file(Path::new(spec)).map_err(|e| e.to_string())?
-    } else {
-        let w = width.unwrap_or(240);
-        let h = height.unwrap_or(240);
-        builtins::builtin_scene(spec, w, h).ok_or_else(|| {
-            format!(
-                "'{spec}' is neither a scene file nor a built-in scene (built-ins: {})",
-                builtins::BUILTIN_SCENES.join(", ")
-            )
-        })?
-    };
-    if let Some(w) = width {
-        desc.width = w;
-    }
-    if let Some(h) = height {
-        desc.height = h;
-    }
-    if !(1..=2048).contains(&desc.width) || !(1..=2048).contains(&desc.height) {
-        return Err(format!(
-            "image size {}x{} is outside 1..=2048",
-            desc.width, desc.height
-        ));
-    }
-    Ok(desc)
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {
@@ -301,10 +269,9 @@ fn main() -> ExitCode {
         Command::Shading(args) => load_scene(&args.scene, args.width, args.height)
             .and_then(|desc| host_sim::shading_compare::run_shading(args, desc)),
         Command::Fit(args) => load_scene(&args.scene, Some(args.width), Some(args.height))
-            .and_then(|desc| host_sim::fit::run_fit(args, desc)),
-        Command::QemuBench(args) => host_sim::bench::run_bench(args),
+            .and_then(|desc| host_sim::fit::run_fit(args, desc).map(|_| ())),
         Command::Bounded(args) => host_sim::bounded::run_bounded(args),
-        Command::Tune(args) => host_sim::tune::run_tune(args),
+        Command::Tune(args) => host_sim::tune::run_tune(args).map(|_| ()),
         Command::ZbufferTable(args) => load_scene(&args.scene, Some(args.width), Some(args.height))
             .and_then(|desc| host_sim::zbuffer_table::run_zbuffer_table(args, desc)),
     };

@@ -7,14 +7,13 @@
 //! configuration must fit `--ram` with the frame workspace, line buffers and
 //! stack reserve counted as `host-sim fit` counts them; among those that meet
 //! the target, the one with the shortest median host time per frame wins
-//! (with `--qemu`, its instructions per frame on the Cortex-M4 are measured
+//! (`cargo xtask tune` measures its instructions per frame on the Cortex-M4
 //! too). The winner is printed with the `FIRMWARE_*` variables that build it.
 
 use crate::bounded::frame_errors;
 use crate::builtins::builtin_scene;
 use crate::convert::to_fixed;
 use crate::fit::{budget, parse_bytes, FitArgs};
-use crate::qemu::{build_m4, run_m4, FirmwareConfig};
 use crate::render::{render, Grid, Method, RenderConfig};
 use mcu_abuffer::memory::defaults;
 use std::time::Duration;
@@ -40,9 +39,6 @@ pub struct TuneArgs {
     /// Image width and height.
     #[arg(long, default_value_t = 240)]
     pub size: u32,
-    /// Also measure the winner's instructions per frame under QEMU.
-    #[arg(long)]
-    pub qemu: bool,
     /// How many of the best configurations to list.
     #[arg(long, default_value_t = 5)]
     pub show: usize,
@@ -69,7 +65,8 @@ pub struct Candidate {
     pub time: Duration,
 }
 
-fn method_name(method: Method) -> &'static str {
+/// The policy's name on the command line and in `FIRMWARE_METHOD`.
+pub fn method_name(method: Method) -> &'static str {
     match method {
         Method::SplitBands => "split-bands",
         Method::MergeClosest => "merge-closest",
@@ -140,7 +137,6 @@ pub fn search(args: &TuneArgs) -> Result<TuneResult, String> {
                             ram: args.ram,
                             stack: args.stack,
                             frames: None,
-                            link: false,
                         };
                         let bytes =
                             budget(&fit, &desc, main as usize, extra as usize, pool).total();
@@ -195,8 +191,9 @@ pub fn search(args: &TuneArgs) -> Result<TuneResult, String> {
     })
 }
 
-/// Runs the search and prints the result.
-pub fn run_tune(args: &TuneArgs) -> Result<(), String> {
+/// Runs the search, prints the result and returns the winner (`None` when no
+/// configuration fits and meets the target).
+pub fn run_tune(args: &TuneArgs) -> Result<Option<Candidate>, String> {
     let TuneResult {
         tried,
         fitting,
@@ -220,7 +217,7 @@ pub fn run_tune(args: &TuneArgs) -> Result<(), String> {
         } else {
             println!("no configuration that fits meets the target");
         }
-        return Ok(());
+        return Ok(None);
     };
     println!("| policy | band | main | extra | pool | bytes | worst NMSE | host ms per frame |");
     println!("|---|---|---|---|---|---|---|---|");
@@ -245,32 +242,7 @@ pub fn run_tune(args: &TuneArgs) -> Result<(), String> {
         best.extra,
         best.pool
     );
-    if args.qemu {
-        let config = FirmwareConfig {
-            scene: args.scene.clone(),
-            frames,
-            method: method_name(best.method).into(),
-            grid: "4x4".into(),
-            band: best.band,
-            main: best.main,
-            extra: best.extra,
-            pool: best.pool,
-            fixed: 3,
-        };
-        let dir = std::env::temp_dir().join(format!("abuffer-tune-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
-        let elf = dir.join("firmware.elf");
-        build_m4(&config, &[], &elf)?;
-        let run = run_m4(&elf, &dir, Duration::from_secs(600))?;
-        let mut counts: Vec<u64> = run.stats.iter().map(|s| s.instructions).collect();
-        counts.sort_unstable();
-        println!(
-            "Cortex-M4 under QEMU: median {:.2} M instructions per frame over {} frames",
-            counts.get(counts.len() / 2).copied().unwrap_or(0) as f64 / 1e6,
-            counts.len()
-        );
-    }
-    Ok(())
+    Ok(Some(best))
 }
 
 #[cfg(test)]
@@ -285,7 +257,6 @@ mod tests {
             stack: defaults::STACK_RESERVE_BYTES,
             nmse: 1e-4,
             size: 64,
-            qemu: false,
             show: 3,
         }
     }

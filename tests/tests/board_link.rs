@@ -5,8 +5,8 @@
 //! path it uses is tested in `board_display.rs`.)
 
 use host_sim::fit::read_link_report;
-use host_sim::qemu::build_board;
 use mcu_abuffer::memory::defaults::STACK_RESERVE_BYTES;
+use xtask::firmware::build_board;
 
 const FLASH: u64 = 512 * 1024;
 const RAM: u64 = 128 * 1024;

@@ -7,10 +7,10 @@
 
 use host_sim::builtins::builtin_scene;
 use host_sim::convert::to_fixed;
-use host_sim::qemu::{build_m4, run_m4, FirmwareConfig, FirmwareRun};
 use host_sim::render::{render, Grid, Method, RenderConfig};
 use std::path::PathBuf;
 use std::time::Duration;
+use xtask::firmware::{build_m4, run_m4, FirmwareConfig, FirmwareRun};
 
 /// Upper bounds on instructions per frame (teapot, default M4 configuration, 3-frame
 /// turntable; `split-bands` 2 frames), set from the largest of an 8-frame
@@ -283,7 +283,6 @@ fn the_linked_renderer_memory_is_the_counted_one() {
         ram: 128 * 1024,
         stack: defaults::STACK_RESERVE_BYTES,
         frames: None,
-        link: false,
     };
     let b = budget(&args, &desc, 1, 2, config.pool);
     assert_eq!(b.counts + b.main_slots + b.addresses + b.pool, fragments);

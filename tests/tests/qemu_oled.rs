@@ -9,10 +9,10 @@
 use embedded_graphics_core::pixelcolor::Rgb888;
 use host_sim::builtins::builtin_scene;
 use host_sim::convert::to_fixed;
-use host_sim::qemu::{build_firmware, run_oled_screendump, FirmwareConfig, FirmwareTarget};
 use host_sim::render::{render, Method, RenderConfig};
 use mcu_abuffer::sink::gray4;
 use std::time::Duration;
+use xtask::firmware::{build_firmware, run_oled_screendump, FirmwareConfig, FirmwareTarget};
 
 #[test]
 fn oled_shows_the_host_rendering_in_4_bit_gray() {

@@ -16,12 +16,12 @@
 //! command installs both).
 
 use host_sim::convert::to_fixed;
-use host_sim::qemu::{
-    build_firmware_bin, build_m4, repo_root, run_m4, FirmwareConfig, FirmwareTarget,
-};
 use host_sim::render::{render, RenderConfig};
 use host_sim::scene_file::load_scene_file;
 use std::time::Duration;
+use xtask::firmware::{
+    build_firmware_bin, build_m4, repo_root, run_m4, FirmwareConfig, FirmwareTarget,
+};
 
 /// The stack the build script keeps free by default (`FIRMWARE_STACK_RESERVE`).
 const BUILD_STACK_RESERVE: u64 = mcu_abuffer::memory::defaults::STACK_RESERVE_BYTES as u64;

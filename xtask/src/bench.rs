@@ -1,13 +1,13 @@
-//! `host-sim qemu-bench`: instructions per frame on the Cortex-M4 (QEMU
+//! `cargo xtask qemu-bench`: instructions per frame on the Cortex-M4 (QEMU
 //! `mps2-an386`, `-icount shift=0`) for each method, from the firmware's own
 //! SysTick counts.
 
-use crate::qemu::{build_m4, decode_defmt, run_m4, FirmwareConfig};
+use crate::firmware::{build_m4, decode_defmt, run_m4, FirmwareConfig};
 use mcu_abuffer::memory::defaults;
 use std::fmt::Write as _;
 use std::time::Duration;
 
-/// Arguments of `host-sim qemu-bench`.
+/// Arguments of `cargo xtask qemu-bench`.
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
     /// Built-in scenes or scene files (comma-separated).
@@ -117,6 +117,39 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
     print!("{table}");
     if let Some(path) = &args.markdown {
         std::fs::write(path, &table).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// `cargo xtask profile`: exact instructions per function and per source file
+/// of one frame (frame 0 of the turntable) on the Cortex-M4 under QEMU, for
+/// the teapot with `shared`, `zbuffer` and `split-bands` in the default M4
+/// configuration: builds the QEMU firmware for one frame and runs
+/// `scripts/qemu-profile.py` on it (by innermost inlined function, by source
+/// file, and by function symbol with its inlined callees). Writes
+/// `docs/m4-profile/teapot-<method>.txt`. Needs qemu-system-arm, python3 and
+/// llvm-symbolizer (Debian's llvm package); about a minute per method.
+pub fn profile() -> Result<(), String> {
+    use crate::run::{create_dir, output, program, repo_root, ScratchDir};
+    let out_dir = repo_root().join("docs/m4-profile");
+    create_dir(&out_dir)?;
+    let scratch = ScratchDir::new("profile")?;
+    for method in ["shared", "zbuffer", "split-bands"] {
+        let config = FirmwareConfig {
+            frames: 1,
+            ..FirmwareConfig::for_method(method)
+        };
+        let elf = scratch.path().join(format!("{method}.elf"));
+        build_m4(&config, &[], &elf)?;
+        let listing = output(
+            program("python3")
+                .arg("scripts/qemu-profile.py")
+                .arg(&elf)
+                .args(["--top", "40", "--files", "--outer"]),
+        )?;
+        let path = out_dir.join(format!("teapot-{method}.txt"));
+        std::fs::write(&path, listing).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("wrote {}", path.display());
     }
     Ok(())
 }

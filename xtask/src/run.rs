@@ -1,0 +1,121 @@
+//! Running the programs the tasks are made of: each command is printed before
+//! it runs, and a failure names the command and its exit status.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+pub use crate::firmware::repo_root;
+
+/// `cargo` (the rustup proxy on `PATH`, so that `+toolchain` works) in the
+/// repository root.
+pub fn cargo() -> Command {
+    let mut command = Command::new("cargo");
+    command.current_dir(repo_root());
+    command
+}
+
+/// A program in the repository root.
+pub fn program(name: impl AsRef<std::ffi::OsStr>) -> Command {
+    let mut command = Command::new(name);
+    command.current_dir(repo_root());
+    command
+}
+
+/// The command line of `command`, for messages.
+pub fn describe(command: &Command) -> String {
+    let mut text = command.get_program().to_string_lossy().into_owned();
+    for arg in command.get_args() {
+        let arg = arg.to_string_lossy();
+        if arg.is_empty() || arg.contains([' ', '"', '\'']) {
+            text.push_str(&format!(" '{arg}'"));
+        } else {
+            text.push(' ');
+            text.push_str(&arg);
+        }
+    }
+    text
+}
+
+/// Runs `command` with the terminal as its input and output; an error when it
+/// cannot start or exits with a failure.
+pub fn status(command: &mut Command) -> Result<(), String> {
+    println!("$ {}", describe(command));
+    let status = command
+        .status()
+        .map_err(|e| format!("`{}` did not start: {e}", describe(command)))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("`{}` failed ({status})", describe(command)))
+    }
+}
+
+/// Runs `command` quietly and returns its standard output; on failure the
+/// error carries its standard error.
+pub fn output(command: &mut Command) -> Result<String, String> {
+    let out = command
+        .output()
+        .map_err(|e| format!("`{}` did not start: {e}", describe(command)))?;
+    if out.status.success() {
+        Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+    } else {
+        Err(format!(
+            "`{}` failed ({}):\n{}",
+            describe(command),
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        ))
+    }
+}
+
+/// Whether `program` runs (`program --version` succeeds).
+pub fn installed(program: &str) -> bool {
+    Command::new(program)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// The workspace's target folder (`CARGO_TARGET_DIR` or `target/`).
+pub fn target_dir() -> PathBuf {
+    match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(dir) => repo_root().join(dir),
+        None => repo_root().join("target"),
+    }
+}
+
+/// Builds `host-sim` with the release profile and returns its path.
+pub fn host_sim_release() -> Result<PathBuf, String> {
+    status(cargo().args(["build", "--release", "--quiet", "-p", "host-sim"]))?;
+    Ok(target_dir().join("release").join("host-sim"))
+}
+
+/// Creates folder `dir` (and its parents).
+pub fn create_dir(dir: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))
+}
+
+/// A scratch folder removed when dropped.
+pub struct ScratchDir(PathBuf);
+
+impl ScratchDir {
+    /// A new empty folder under the system's temporary folder, named after
+    /// `purpose` and this process.
+    pub fn new(purpose: &str) -> Result<Self, String> {
+        let dir = std::env::temp_dir().join(format!("xtask-{purpose}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        create_dir(&dir)?;
+        Ok(Self(dir))
+    }
+
+    /// The folder.
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for ScratchDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}

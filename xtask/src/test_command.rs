@@ -1,0 +1,181 @@
+//! `cargo xtask test`: every test, on a fresh machine.
+//!
+//! Installs what is missing (the toolchain of `rust-toolchain.toml` with its
+//! targets, QEMU, flip-link (the firmwares' linker), the toolchain of the
+//! workspace's minimum Rust version, nightly for the fuzz targets), then checks
+//! formatting and lints, the documentation, packaging and the minimum Rust
+//! version, builds the library for bare-metal targets, and runs the whole
+//! suite: host unit and system tests, the QEMU firmware parity and
+//! instruction-count tests (Cortex-M4) and the SPI display screendump test
+//! (Cortex-M3), the board firmware's link check and the host test of its
+//! display path, the board's chip name and memory against probe-rs's target
+//! description, every fuzz target for a short time, and the main job (a
+//! built-in scene rendered to an image). Each step's heading shows the minutes
+//! and seconds since the start.
+
+use crate::run::{cargo, installed, output, repo_root, status};
+use std::process::Command;
+use std::time::Instant;
+
+/// The bare-metal targets the firmwares and the library are built for.
+const TARGETS: [&str; 3] = [
+    "thumbv7em-none-eabihf",
+    "thumbv7m-none-eabi",
+    "thumbv6m-none-eabi",
+];
+
+/// The flip-link version the firmwares link with.
+const FLIP_LINK_VERSION: &str = "0.1.12";
+
+/// Prints step headings with the time since the start.
+struct Steps(Instant);
+
+impl Steps {
+    fn step(&self, what: &str) {
+        let s = self.0.elapsed().as_secs();
+        println!("== [{}:{:02}] {what}", s / 60, s % 60);
+    }
+}
+
+/// `cargo` with `args` (split at spaces) in the repository root.
+fn cargo_args(args: &str) -> Command {
+    let mut command = cargo();
+    command.args(args.split_whitespace());
+    command
+}
+
+/// Installs the targets, QEMU and flip-link when missing.
+fn setup() -> Result<(), String> {
+    // The toolchain rust-toolchain.toml names, with its components and targets
+    // (older rustup installs it on first use instead); best effort.
+    let _ = Command::new("rustup")
+        .args(["toolchain", "install"])
+        .output();
+    let _ = Command::new("rustup")
+        .args(["component", "add", "rustfmt", "clippy"])
+        .output();
+    status(Command::new("rustup").args(["target", "add"]).args(TARGETS))?;
+    if !installed("qemu-system-arm") {
+        let uid = output(Command::new("id").arg("-u")).unwrap_or_default();
+        if uid.trim() != "0" {
+            return Err("qemu-system-arm is missing and installing it needs root: apt-get install -y qemu-system-arm".into());
+        }
+        status(Command::new("apt-get").arg("update"))?;
+        status(
+            Command::new("apt-get")
+                .env("DEBIAN_FRONTEND", "noninteractive")
+                .args(["install", "-y", "qemu-system-arm"]),
+        )?;
+    }
+    let version = output(Command::new("qemu-system-arm").arg("--version"))?;
+    println!("{}", version.lines().next().unwrap_or(""));
+    // The firmwares link through flip-link (the stack below the statics).
+    if !installed("flip-link") {
+        status(cargo().args([
+            "install",
+            "flip-link",
+            "--locked",
+            "--version",
+            FLIP_LINK_VERSION,
+        ]))?;
+    }
+    Ok(())
+}
+
+/// The workspace's `rust-version`.
+fn minimum_rust_version() -> Result<String, String> {
+    let path = repo_root().join("Cargo.toml");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    text.lines()
+        .find_map(|l| l.strip_prefix("rust-version = "))
+        .map(|v| v.trim().trim_matches('"').to_string())
+        .ok_or_else(|| format!("{}: no rust-version", path.display()))
+}
+
+/// Runs `cargo xtask test`.
+pub fn run() -> Result<(), String> {
+    let steps = Steps(Instant::now());
+    steps.step("setup");
+    setup()?;
+
+    steps.step("format");
+    status(&mut cargo_args("fmt --all -- --check"))?;
+    status(&mut cargo_args(
+        "fmt --manifest-path firmware/qemu/Cargo.toml -- --check",
+    ))?;
+    status(&mut cargo_args(
+        "fmt --manifest-path firmware/blackpill/Cargo.toml -- --check",
+    ))?;
+
+    steps.step("clippy");
+    status(&mut cargo_args(
+        "clippy --workspace --all-targets -- -D warnings",
+    ))?;
+    status(&mut cargo_args(
+        "clippy --manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings",
+    ))?;
+    status(&mut cargo_args(
+        "clippy --manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi -- -D warnings",
+    ))?;
+    status(&mut cargo_args(
+        "clippy --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --all-targets -- -D warnings",
+    ))?;
+    // The minimal example firmware (README, "Add it to your firmware") links for the board.
+    status(&mut cargo_args(
+        "build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal",
+    ))?;
+
+    steps.step("the library's documentation builds without warnings (broken links included)");
+    status(cargo_args("doc -p mcu-abuffer --no-deps").env("RUSTDOCFLAGS", "-D warnings"))?;
+
+    steps.step("the library and the scene crate package for crates.io (dry run)");
+    status(&mut cargo_args(
+        "publish --dry-run --allow-dirty -p mcu-abuffer -p abuffer-scenes",
+    ))?;
+
+    steps.step("the declared minimum Rust version (workspace rust-version) builds everything");
+    let msrv = minimum_rust_version()?;
+    output(Command::new("rustup").args(["toolchain", "install", &msrv, "--profile", "minimal"]))?;
+    status(
+        cargo()
+            .env("CARGO_TARGET_DIR", "target/msrv")
+            .arg(format!("+{msrv}"))
+            .args(["check", "--workspace", "--all-targets"]),
+    )?;
+
+    steps.step("library for Cortex-M4F and Cortex-M0+");
+    status(&mut cargo_args(
+        "build -p mcu-abuffer --release --target thumbv7em-none-eabihf",
+    ))?;
+    status(&mut cargo_args(
+        "build -p mcu-abuffer --release --target thumbv6m-none-eabi",
+    ))?;
+
+    steps.step("tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump, board link and display path)");
+    // The firmware tests skip themselves when QEMU or a Cortex-M target is
+    // missing; both were installed above, so a missing one must fail instead.
+    status(cargo_args("test --workspace").env("ABUFFER_REQUIRE_QEMU", "1"))?;
+
+    steps.step("board: the runner's chip is one probe-rs knows, with memory.x's flash and RAM (probe-rs if installed, else the copy of its target description)");
+    for line in crate::board_chip::check()? {
+        println!("{line}");
+    }
+
+    steps.step("fuzz: 10 s per target from the seed corpus with a fixed seed (installs nightly)");
+    // A fixed seed: the same inputs on every machine, in the same order.
+    // Exploring new inputs is `cargo xtask fuzz --seconds N`.
+    crate::fuzz::run(&crate::fuzz::FuzzArgs {
+        seconds: 10,
+        seed: Some(1),
+        targets: Vec::new(),
+    })?;
+
+    steps.step("main job: render a built-in scene");
+    // The README's first command, built with the test profile that the tests
+    // above compiled it with (the release build would add minutes here).
+    status(&mut cargo_args(
+        "run --profile test -p host-sim -- render --scene teapot --out target/teapot.png",
+    ))?;
+    steps.step("done");
+    Ok(())
+}
