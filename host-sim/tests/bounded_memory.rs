@@ -99,3 +99,32 @@ fn split_bands_image_does_not_depend_on_the_pool_size() {
     assert_eq!(large.stats.band_splits, 0);
     assert_eq!(small.rgb, large.rgb);
 }
+
+#[test]
+fn split_bands_image_does_not_depend_on_the_band_height() {
+    // What is left of the error against `unlimited` (pixels whose lists are
+    // full) cannot line up with band boundaries: the image is the same bits
+    // whichever rows make up a band, from one row to the whole frame.
+    let desc = builtin_scene("teapot:24", 240, 240).expect("built-in scene");
+    let fixed = to_fixed(&desc).expect("scene converts");
+    let with_band = |band| {
+        render(
+            &fixed,
+            &RenderConfig {
+                method: Method::SplitBands,
+                band,
+                ..Default::default()
+            },
+            30.0,
+        )
+        .expect("renders")
+        .rgb
+    };
+    let whole_frame = with_band(240);
+    for band in [1, 3, 6, 16] {
+        assert!(
+            with_band(band) == whole_frame,
+            "band {band} differs from one band of 240 rows"
+        );
+    }
+}
