@@ -69,6 +69,16 @@ pub enum Grid {
 }
 
 impl Grid {
+    /// The grid's name on the command line and in the CSV and JSON outputs
+    /// (`4x4`, `8x4`, `8x8`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Grid::G4x4 => "4x4",
+            Grid::G8x4 => "8x4",
+            Grid::G8x8 => "8x8",
+        }
+    }
+
     /// Samples per pixel.
     pub fn samples(self) -> usize {
         match self {

@@ -342,14 +342,6 @@ pub fn run_sweep(
 /// The CSV header, one column per [`SweepRow`] field plus the scene's.
 pub const CSV_HEADER: &str = "scene,width,height,frames,grid,band,policy,fragments_per_pixel,split,n_main,n_extra,pool_slots,pool_peak,fragment_bytes,address_bytes,main_buffer_bytes,pool_bytes,total_bytes,bytes_per_pixel,fixed_equivalent_bytes,nmse,psnr_db,max_abs_diff,differing_pixels,merges,discarded";
 
-fn grid_name(grid: Grid) -> &'static str {
-    match grid {
-        Grid::G4x4 => "4x4",
-        Grid::G8x4 => "8x4",
-        Grid::G8x8 => "8x8",
-    }
-}
-
 /// The sweep as CSV (header line included). Scene names are quoted.
 pub fn to_csv(
     scene_name: &str,
@@ -370,7 +362,7 @@ pub fn to_csv(
             scene.width,
             scene.height,
             params.angles.len(),
-            grid_name(params.grid),
+            params.grid.name(),
             band,
             r.config.policy.name(),
             r.config.budget,
@@ -507,7 +499,7 @@ pub fn summary_markdown(
         scene.width,
         scene.height,
         params.angles.len(),
-        grid_name(params.grid),
+        params.grid.name(),
         band,
         match params.pool {
             PoolSizing::Peak => "sized to the worst peak over the frames".to_string(),
@@ -699,7 +691,7 @@ pub fn run_sweep_command(
         scene.height,
         params.angles.len(),
         if params.angles.len() == 1 { "" } else { "s" },
-        grid_name(args.grid)
+        args.grid.name()
     );
     let summary = summary_markdown(&args.scene, &scene, &params, &result);
     let paths = [

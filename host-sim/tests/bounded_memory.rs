@@ -1,13 +1,14 @@
 //! Bounded memory against `unlimited`: the `split-bands` policy keeps the
 //! image within the error thresholds on dense, two-sided, interpenetrating
-//! scenes in the default Cortex-M4 memory configuration (band 8, one main
-//! slot, two pool addresses, 512 pool slots), where the paper's merge of the
-//! two farthest fragments with a pinned pool does not.
+//! scenes in a tighter memory than the default Cortex-M4 configuration (band
+//! 8, one main slot, two pool addresses, 512 pool slots, the former default;
+//! today's has 6-row bands and 1,152 slots), where the paper's merge of the two
+//! farthest fragments with a pinned pool does not.
 
 use host_sim::builtins::builtin_scene;
 use host_sim::compare::nmse;
 use host_sim::convert::to_fixed;
-use host_sim::render::{render, Method, RenderConfig};
+use host_sim::render::{render, Method, RenderConfig, RenderOutput};
 
 /// The error a bounded-memory image may have against `unlimited`.
 const NMSE_LIMIT: f64 = 1e-4;
@@ -17,7 +18,8 @@ const SPECKLE_LEVELS: i32 = 24;
 const SPECKLE_FRACTION: f64 = 0.0002;
 
 /// NMSE against `unlimited` and the fraction of speckled pixels of `method`
-/// on the built-in `scene` turned by `angle` degrees, M4 memory.
+/// on the built-in `scene` turned by `angle` degrees, in 8-row bands with a
+/// pool of 512 slots.
 fn errors(scene: &str, method: Method, angle: f32) -> (f64, f64) {
     let desc = builtin_scene(scene, 240, 240).expect("built-in scene");
     let fixed = to_fixed(&desc).expect("scene converts");
@@ -78,21 +80,7 @@ fn split_bands_image_does_not_depend_on_the_pool_size() {
     // so however often the pool runs out, the image is the same as with a
     // pool that never does, as long as every single row fits the pool (a
     // row is not split further).
-    let desc = builtin_scene("teapot", 240, 240).expect("built-in scene");
-    let fixed = to_fixed(&desc).expect("scene converts");
-    let with_pool = |pool| {
-        render(
-            &fixed,
-            &RenderConfig {
-                method: Method::SplitBands,
-                band: 8,
-                pool: Some(pool),
-                ..Default::default()
-            },
-            30.0,
-        )
-        .expect("renders")
-    };
+    let with_pool = |pool| split_bands_image("teapot", 8, Some(pool));
     let small = with_pool(256);
     let large = with_pool(240 * 8 * 2);
     assert!(small.stats.band_splits > 0);
@@ -105,21 +93,7 @@ fn split_bands_image_does_not_depend_on_the_band_height() {
     // What is left of the error against `unlimited` (pixels whose lists are
     // full) cannot line up with band boundaries: the image is the same bits
     // whichever rows make up a band, from one row to the whole frame.
-    let desc = builtin_scene("teapot:24", 240, 240).expect("built-in scene");
-    let fixed = to_fixed(&desc).expect("scene converts");
-    let with_band = |band| {
-        render(
-            &fixed,
-            &RenderConfig {
-                method: Method::SplitBands,
-                band,
-                ..Default::default()
-            },
-            30.0,
-        )
-        .expect("renders")
-        .rgb
-    };
+    let with_band = |band| split_bands_image("teapot:24", band, None).rgb;
     let whole_frame = with_band(240);
     for band in [1, 3, 6, 16] {
         assert!(
@@ -127,4 +101,18 @@ fn split_bands_image_does_not_depend_on_the_band_height() {
             "band {band} differs from one band of 240 rows"
         );
     }
+}
+
+/// `split-bands` on the built-in `scene` turned by 30 degrees, in bands of
+/// `band` rows with `pool` slots (the default pool when `None`).
+fn split_bands_image(scene: &str, band: u16, pool: Option<usize>) -> RenderOutput {
+    let desc = builtin_scene(scene, 240, 240).expect("built-in scene");
+    let fixed = to_fixed(&desc).expect("scene converts");
+    let config = RenderConfig {
+        method: Method::SplitBands,
+        band,
+        pool,
+        ..Default::default()
+    };
+    render(&fixed, &config, 30.0).expect("renders")
 }

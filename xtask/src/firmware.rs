@@ -26,7 +26,8 @@ pub struct FirmwareConfig {
     pub scene: String,
     /// Turntable frames.
     pub frames: u32,
-    /// `shared`, `merge-closest`, `fixed-discard`, `fixed-merge`, `unlimited` or `zbuffer`.
+    /// `split-bands`, `shared`, `merge-closest`, `fixed-discard`, `fixed-merge`,
+    /// `unlimited` or `zbuffer`.
     pub method: String,
     /// `4x4`, `8x4` or `8x8`.
     pub grid: String,

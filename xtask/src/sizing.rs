@@ -6,7 +6,6 @@
 use crate::firmware::{build_m4, run_m4, FirmwareConfig};
 use crate::run::ScratchDir;
 use host_sim::fit::{print_link_report, run_fit, FitArgs};
-use host_sim::render::Grid;
 use host_sim::tune::{method_name, run_tune, TuneArgs};
 use mcu_abuffer::memory::defaults;
 use std::time::Duration;
@@ -19,12 +18,7 @@ pub fn fit_link(args: &FitArgs) -> Result<(), String> {
         scene: args.scene.clone(),
         frames: 1,
         method: "shared".into(),
-        grid: match args.grid {
-            Grid::G4x4 => "4x4",
-            Grid::G8x4 => "8x4",
-            Grid::G8x8 => "8x8",
-        }
-        .into(),
+        grid: args.grid.name().into(),
         band: args.band,
         main: args.main,
         extra: args.extra,

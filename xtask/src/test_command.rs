@@ -17,13 +17,6 @@ use crate::run::{cargo, installed, output, repo_root, status};
 use std::process::Command;
 use std::time::Instant;
 
-/// The bare-metal targets the firmwares and the library are built for.
-const TARGETS: [&str; 3] = [
-    "thumbv7em-none-eabihf",
-    "thumbv7m-none-eabi",
-    "thumbv6m-none-eabi",
-];
-
 /// The flip-link version the firmwares link with.
 const FLIP_LINK_VERSION: &str = "0.1.12";
 
@@ -54,7 +47,11 @@ fn setup() -> Result<(), String> {
     let _ = Command::new("rustup")
         .args(["component", "add", "rustfmt", "clippy"])
         .output();
-    status(Command::new("rustup").args(["target", "add"]).args(TARGETS))?;
+    status(
+        Command::new("rustup")
+            .args(["target", "add"])
+            .args(toolchain_targets()?),
+    )?;
     if !installed("qemu-system-arm") {
         let uid = output(Command::new("id").arg("-u")).unwrap_or_default();
         if uid.trim() != "0" {
@@ -80,6 +77,27 @@ fn setup() -> Result<(), String> {
         ]))?;
     }
     Ok(())
+}
+
+/// The bare-metal targets `rust-toolchain.toml` names (its `targets = [...]`
+/// line), which the firmwares and the library are built for.
+fn toolchain_targets() -> Result<Vec<String>, String> {
+    let path = repo_root().join("rust-toolchain.toml");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let list = text
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("targets = "))
+        .ok_or_else(|| format!("{}: no `targets = [...]` line", path.display()))?;
+    let targets: Vec<String> = list
+        .trim_matches(['[', ']'])
+        .split(',')
+        .map(|t| t.trim().trim_matches('"').to_string())
+        .filter(|t| !t.is_empty())
+        .collect();
+    if targets.is_empty() {
+        return Err(format!("{}: the targets list is empty", path.display()));
+    }
+    Ok(targets)
 }
 
 /// The workspace's `rust-version`.
