@@ -582,6 +582,72 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         self.stats.merges += 1;
         self.stats.fragments_stored += 1;
     }
+
+    /// [`BandBuffer::insert`] into pixel `p` (column `x`) that already holds
+    /// fragments.
+    #[inline(never)]
+    fn insert_into_list(&mut self, x: u16, p: usize, fragment: &Fragment<M>) {
+        let mut n = self.counts[p] as usize;
+        let mut f = *fragment;
+        // Settle every shared sample with each stored fragment (their masks are
+        // disjoint, so the order of comparison does not matter), and find the
+        // sorted position on the way: after every stored fragment at the same or
+        // nearer depth.
+        let mut emptied = false;
+        let mut k = n;
+        let mut position = 0;
+        // The samples the pixel covered before (complete unless the fragment
+        // turns out hidden, which changes nothing).
+        let mut covered = M::EMPTY;
+        self.any_stored(p, n, |stored| {
+            covered = covered | stored.mask();
+            if k == n && stored.z() > f.z {
+                k = position;
+            }
+            position += 1;
+            let overlap = stored.mask() & f.mask;
+            if overlap.is_empty() {
+                return false;
+            }
+            let b = stored.unpack();
+            let vis = visibility_mask(&f, &b);
+            let b_mask = b.mask & !(overlap & vis);
+            f.mask = f.mask & !(overlap & !vis);
+            if b_mask != b.mask {
+                stored.set_mask(b_mask);
+                emptied |= b_mask.is_empty();
+            }
+            f.mask.is_empty()
+        });
+        if emptied {
+            n = self.compact(p, n);
+        }
+        if f.mask.is_empty() {
+            self.stats.fragments_hidden_on_arrival += 1;
+            self.counts[p] = n as u8;
+            return;
+        }
+        if emptied {
+            // Removed fragments moved the later ones: find the position again.
+            k = n;
+            for i in 0..n {
+                if self.slot_ref(p, i).z() > f.z {
+                    k = i;
+                    break;
+                }
+            }
+        }
+        if n < self.config.pixel_capacity() && self.insert_at(p, n, k, &f) {
+            n += 1;
+            self.stats.fragments_stored += 1;
+        } else {
+            self.overflow(p, n, k, &f);
+        }
+        // Stored or merged, the pixel now covers its old samples and the new ones.
+        self.strips.covered(x as usize, covered, fragment.mask);
+        self.counts[p] = n as u8;
+        self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(n as u32);
+    }
 }
 
 impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A> {
@@ -670,11 +736,13 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         true
     }
 
+    // Inlined into the rasterizer: a pixel's first fragment (most of them) is
+    // one store; the others take the out-of-line path.
+    #[inline]
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
         self.stats.fragments_generated += 1;
         let p = self.pixel_index(x, row);
-        let mut n = self.counts[p] as usize;
-        if n == 0 {
+        if self.counts[p] == 0 {
             // The first fragment of a pixel goes to its first main slot.
             let packed = PackedFragment::pack(fragment);
             self.main[p * self.config.main_slots as usize] = packed;
@@ -685,65 +753,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
             self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(1);
             return;
         }
-        let mut f = *fragment;
-        // Settle every shared sample with each stored fragment (their masks are
-        // disjoint, so the order of comparison does not matter), and find the
-        // sorted position on the way: after every stored fragment at the same or
-        // nearer depth.
-        let mut emptied = false;
-        let mut k = n;
-        let mut position = 0;
-        // The samples the pixel covered before (complete unless the fragment
-        // turns out hidden, which changes nothing).
-        let mut covered = M::EMPTY;
-        self.any_stored(p, n, |stored| {
-            covered = covered | stored.mask();
-            if k == n && stored.z() > f.z {
-                k = position;
-            }
-            position += 1;
-            let overlap = stored.mask() & f.mask;
-            if overlap.is_empty() {
-                return false;
-            }
-            let b = stored.unpack();
-            let vis = visibility_mask(&f, &b);
-            let b_mask = b.mask & !(overlap & vis);
-            f.mask = f.mask & !(overlap & !vis);
-            if b_mask != b.mask {
-                stored.set_mask(b_mask);
-                emptied |= b_mask.is_empty();
-            }
-            f.mask.is_empty()
-        });
-        if emptied {
-            n = self.compact(p, n);
-        }
-        if f.mask.is_empty() {
-            self.stats.fragments_hidden_on_arrival += 1;
-            self.counts[p] = n as u8;
-            return;
-        }
-        if emptied {
-            // Removed fragments moved the later ones: find the position again.
-            k = n;
-            for i in 0..n {
-                if self.slot_ref(p, i).z() > f.z {
-                    k = i;
-                    break;
-                }
-            }
-        }
-        if n < self.config.pixel_capacity() && self.insert_at(p, n, k, &f) {
-            n += 1;
-            self.stats.fragments_stored += 1;
-        } else {
-            self.overflow(p, n, k, &f);
-        }
-        // Stored or merged, the pixel now covers its old samples and the new ones.
-        self.strips.covered(x as usize, covered, fragment.mask);
-        self.counts[p] = n as u8;
-        self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(n as u32);
+        self.insert_into_list(x, p, fragment);
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {

@@ -469,16 +469,27 @@ fn walk_pixels<M, E, W, V>(
     let columns = (setup.x1 - setup.x0) as i64 + 1;
     let (start_x, start_y) = start;
     let dz = setup.depth.dx;
-    // Half-open ranges: inclusive ones cost an extra test per step.
-    for y in start_y..y_last + 1 {
-        if y != start_y {
+    let x0 = setup.x0 as i32;
+    // Edge values and depth at the first pixel of the current row, stepped
+    // down one row at a time (the same integers as evaluating each row).
+    let first_row = (start_y - setup.y0) as i64;
+    let mut e_row: [E; 3] =
+        core::array::from_fn(|i| E::from_i64(setup.edges[i].origin + first_row * step_y[i]));
+    let step_y: [E; 3] = step_y.map(E::from_i64);
+    let mut z_row = setup.depth.origin + first_row * setup.depth.dy;
+    // Plain integer counters: the pixel loops below keep few values live.
+    let mut y = start_y as i32;
+    while y <= y_last as i32 {
+        if y != start_y as i32 {
             walk.next_row();
+            for i in 0..3 {
+                e_row[i] = e_row[i] + step_y[i];
+            }
+            z_row += setup.depth.dy;
         }
-        let dy = (y - setup.y0) as i64;
-        let e: [E; 3] =
-            core::array::from_fn(|i| E::from_i64(setup.edges[i].origin + dy * step_y[i]));
+        let e = e_row;
         let mut span = row_span(&e, &step_x, &margin, columns, M::SAMPLES == 1);
-        if y == start_y {
+        if y == start_y as i32 {
             // Resume at the start column.
             let resume = (start_x - setup.x0) as i64;
             span.start = span.start.max(resume);
@@ -486,20 +497,23 @@ fn walk_pixels<M, E, W, V>(
             span.full_end = span.full_end.max(span.full_start);
         }
         if span.start >= span.end {
+            y += 1;
             continue;
         }
+        let row = y as u16;
         let mut color = walk.row();
         walk.skip(&mut color, span.start as u16);
-        let mut z = setup.depth.origin + dy * setup.depth.dy + span.start * dz;
-        // Columns in image coordinates: the span lies within the box.
-        let column = |k: i64| (setup.x0 as i64 + k) as u16;
+        let mut z = z_row + span.start * dz;
         // Pixels near an edge: their exact masks from the samples.
         macro_rules! edge_pixels {
             ($from:expr, $to:expr) => {
                 let mut at: [E; 3] = core::array::from_fn(|i| e[i] + step_x[i].times($from));
-                for x in column($from)..column($to) {
+                let (mut k, to) = ($from as i32, $to as i32);
+                while k < to {
                     if let Some(mask) = pixel_coverage::<M, E>(&at, samples, &margin) {
-                        if !mask.is_empty() && visit(x, y, mask, z, walk.color(&color)) {
+                        if !mask.is_empty()
+                            && visit((x0 + k) as u16, row, mask, z, walk.color(&color))
+                        {
                             return;
                         }
                     }
@@ -508,18 +522,22 @@ fn walk_pixels<M, E, W, V>(
                     }
                     walk.step(&mut color);
                     z += dz;
+                    k += 1;
                 }
             };
         }
         edge_pixels!(span.start, span.full_start);
         // The interior: full masks.
-        for x in column(span.full_start)..column(span.full_end) {
-            if visit(x, y, M::FULL, z, walk.color(&color)) {
+        let (mut k, to) = (span.full_start as i32, span.full_end as i32);
+        while k < to {
+            if visit((x0 + k) as u16, row, M::FULL, z, walk.color(&color)) {
                 return;
             }
             walk.step(&mut color);
             z += dz;
+            k += 1;
         }
         edge_pixels!(span.full_end, span.end);
+        y += 1;
     }
 }

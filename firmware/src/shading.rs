@@ -272,30 +272,41 @@ pub fn fit_quadratic(
         mul2_q20(s0, tv, t0, sv),
         m(s0, t0),
     ];
-    Some(core::array::from_fn(|ch| {
-        let c = samples
-            .vertices
-            .map(|v| (v[ch] as i64).clamp(0, SAMPLE_MAX));
-        let [m01, m12, m20] = samples
-            .midpoints
-            .map(|v| (v[ch] as i64).clamp(0, SAMPLE_MAX));
-        let alpha = 2 * (c[0] + c[1] - 2 * m01);
-        let beta = 2 * (c[0] + c[2] - 2 * m20);
-        let gamma = 4 * (c[0] + m12 - m01 - m20);
-        let delta = 4 * m01 - 3 * c[0] - c[1];
-        let epsilon = 4 * m20 - 3 * c[0] - c[2];
-        let quadratic = |k: usize| alpha * ss[k] + beta * tt[k] + gamma * st[k];
+    // One channel at a time, straight-line: the six coefficients of channel
+    // `ch` from its Q8 weights and the shared monomials.
+    let mut fitted = [QuadraticPolynomial::default(); 3];
+    for (ch, out) in fitted.iter_mut().enumerate() {
+        let sample = |v: &ColorQ8| (v[ch] as i64).clamp(0, SAMPLE_MAX);
+        let (c0, c1, c2) = (
+            sample(&samples.vertices[0]),
+            sample(&samples.vertices[1]),
+            sample(&samples.vertices[2]),
+        );
+        let (m01, m12, m20) = (
+            sample(&samples.midpoints[0]),
+            sample(&samples.midpoints[1]),
+            sample(&samples.midpoints[2]),
+        );
+        let alpha = 2 * (c0 + c1 - 2 * m01);
+        let beta = 2 * (c0 + c2 - 2 * m20);
+        let gamma = 4 * (c0 + m12 - m01 - m20);
+        let delta = 4 * m01 - 3 * c0 - c1;
+        let epsilon = 4 * m20 - 3 * c0 - c2;
+        // The weights fit 20 bits: 32 x 64-bit products.
+        let times = |w: i64, m: i64| w as i32 as i64 * m;
+        let quadratic = |k: usize| times(alpha, ss[k]) + times(beta, tt[k]) + times(gamma, st[k]);
         // Q8 weights times Q20 mantissas: Q28 over the normalized box; the
         // powers of u = i / 2^p and v = j / 2^q become shifts.
-        QuadraticPolynomial {
+        *out = QuadraticPolynomial {
             a: shift_round(quadratic(0), 2 * p),
             b: shift_round(quadratic(1), 2 * q),
             c: shift_round(quadratic(2), p + q),
             d: shift_round(quadratic(3) + delta * su + epsilon * tu, p),
             e: shift_round(quadratic(4) + delta * sv + epsilon * tv, q),
-            f: quadratic(5) + delta * s0 + epsilon * t0 + (c[0] << BARYCENTRIC_BITS),
-        }
-    }))
+            f: quadratic(5) + delta * s0 + epsilon * t0 + (c0 << BARYCENTRIC_BITS),
+        };
+    }
+    Some(fitted)
 }
 
 /// `1 / sqrt(x)` for `x` in `[1, 4)` (Q28), Q30: a table at the centers of 48
