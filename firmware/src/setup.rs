@@ -238,35 +238,38 @@ impl TriangleSetup {
             [v[0], v[2], v[1]]
         };
         let area2 = area2.abs();
-        let lim = (GUARD_BAND_PX << SUBPIXEL_BITS) as i64;
-        let xs = v.map(|p| (p.x as i64).clamp(-lim, lim));
-        let ys = v.map(|p| (p.y as i64).clamp(-lim, lim));
+        // Clamped corners fit `i32` (±2^16), their differences too (±2^17):
+        // the products below are single 32 x 32 -> 64-bit multiplications.
+        let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
+        let xs = v.map(|p| p.x.clamp(-lim, lim));
+        let ys = v.map(|p| p.y.clamp(-lim, lim));
         // Bounding box in pixels, clipped to the screen.
-        let min_x = xs.iter().min().copied().unwrap_or(0) >> SUBPIXEL_BITS;
-        let max_x = xs.iter().max().copied().unwrap_or(0) >> SUBPIXEL_BITS;
-        let min_y = ys.iter().min().copied().unwrap_or(0) >> SUBPIXEL_BITS;
-        let max_y = ys.iter().max().copied().unwrap_or(0) >> SUBPIXEL_BITS;
-        if max_x < 0 || max_y < 0 || min_x >= width as i64 || min_y >= height as i64 {
+        let min_x = xs[0].min(xs[1]).min(xs[2]) >> SUBPIXEL_BITS;
+        let max_x = xs[0].max(xs[1]).max(xs[2]) >> SUBPIXEL_BITS;
+        let min_y = ys[0].min(ys[1]).min(ys[2]) >> SUBPIXEL_BITS;
+        let max_y = ys[0].max(ys[1]).max(ys[2]) >> SUBPIXEL_BITS;
+        if max_x < 0 || max_y < 0 || min_x >= width as i32 || min_y >= height as i32 {
             return Err(Rejection::Outside);
         }
         let x0 = min_x.max(0);
         let y0 = min_y.max(0);
-        let x1 = max_x.min(width as i64 - 1);
-        let y1 = max_y.min(height as i64 - 1);
-        let half = 1i64 << (SUBPIXEL_BITS - 1);
+        let x1 = max_x.min(width as i32 - 1);
+        let y1 = max_y.min(height as i32 - 1);
+        let half = 1i32 << (SUBPIXEL_BITS - 1);
         let cx = (x0 << SUBPIXEL_BITS) + half;
         let cy = (y0 << SUBPIXEL_BITS) + half;
+        let wide = |a: i32, b: i32| a as i64 * b as i64;
         let mut edges = [Edge::default(); 3];
         for (i, e) in edges.iter_mut().enumerate() {
             let (ia, ib) = (i, (i + 1) % 3);
-            let a = -(ys[ib] - ys[ia]);
+            let a = ys[ia] - ys[ib];
             let b = xs[ib] - xs[ia];
             let top_left = a > 0 || (a == 0 && b > 0);
-            let c = -(a * xs[ia] + b * ys[ia]) - if top_left { 0 } else { 1 };
+            // E at the first pixel's center: a (cx - xa) + b (cy - ya), biased.
             *e = Edge {
-                a,
-                b,
-                origin: a * cx + b * cy + c,
+                a: a as i64,
+                b: b as i64,
+                origin: wide(a, cx - xs[ia]) + wide(b, cy - ys[ia]) - if top_left { 0 } else { 1 },
             };
         }
         // Depth plane: z = z0 + gx (x - x0) + gy (y - y0), gradients per pixel x 2^16.
@@ -278,15 +281,17 @@ impl TriangleSetup {
         // One reciprocal of the area serves every plane of the triangle.
         let reciprocal = Reciprocal::new(area2 as u64);
         let gx = saturate(
-            reciprocal.mul_div(dz1 * dy2 - dz2 * dy1, shift),
+            reciprocal.mul_div(dz1 * dy2 as i64 - dz2 * dy1 as i64, shift),
             DEPTH_STEP_LIMIT,
         );
         let gy = saturate(
-            reciprocal.mul_div(dx1 * dz2 - dx2 * dz1, shift),
+            reciprocal.mul_div(dx1 as i64 * dz2 - dx2 as i64 * dz1, shift),
             DEPTH_STEP_LIMIT,
         );
         let depth = Plane {
-            origin: (((v[0].z as i64) << shift) + gx * (cx - xs[0]) + gy * (cy - ys[0]))
+            origin: (((v[0].z as i64) << shift)
+                + gx * (cx - xs[0]) as i64
+                + gy * (cy - ys[0]) as i64)
                 >> SUBPIXEL_BITS,
             dx: gx,
             dy: gy,
@@ -302,8 +307,8 @@ impl TriangleSetup {
             dzdx: round16(gx),
             dzdy: round16(gy),
             corners: Corners {
-                xs,
-                ys,
+                xs: xs.map(i64::from),
+                ys: ys.map(i64::from),
                 colors: v.map(|p| p.color),
                 swapped,
                 area2: reciprocal,
