@@ -30,7 +30,7 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 #[inline]
 pub fn edge_mask<M: CoverageMask>(e: i64, edge: &Edge) -> M {
     // Near an edge |e| is below the margin (< 2^22), so 32 bits suffice.
-    M::edge_coverage(&M::edge_samples(edge.a as i32, edge.b as i32), e as i32)
+    M::edge_coverage(&M::edge_samples(edge.a, edge.b), e as i32)
 }
 
 /// An integer type edge functions are stepped in: `i32` when a triangle's edge
@@ -132,7 +132,9 @@ fn edges_fit_i32(setup: &TriangleSetup, y_first: u16, y_last: u16) -> bool {
     let rows = (y_last - setup.y0) as i64 + 1;
     let _ = y_first;
     setup.edges.iter().all(|e| {
-        let bound = e.origin.abs() + (e.a.abs() << 4) * columns + (e.b.abs() << 4) * rows;
+        let bound = e.origin.abs()
+            + ((e.a.unsigned_abs() as i64) << 4) * columns
+            + ((e.b.unsigned_abs() as i64) << 4) * rows;
         bound < 1 << 30
     })
 }
@@ -280,7 +282,7 @@ where
     E: EdgeValue,
     F: FnOnce() -> ColorPlanes,
 {
-    let samples = setup.edges.map(|e| M::edge_samples(e.a as i32, e.b as i32));
+    let samples = setup.edges.map(|e| M::edge_samples(e.a, e.b));
     let mut first = None;
     // Probing needs no color: the walk of a constant costs nothing.
     let mut no_color = ConstantWalk(Rgb888::new(0, 0, 0));
@@ -462,10 +464,13 @@ fn walk_pixels<M, E, W, V>(
     V: FnMut(u16, u16, M, i64, Rgb888) -> bool,
 {
     let margin: [E; 3] = setup.edges.map(|e| {
-        E::from_i64(e.a.abs() * M::max_offset_x() as i64 + e.b.abs() * M::max_offset_y() as i64)
+        E::from_i64(
+            e.a.unsigned_abs() as i64 * M::max_offset_x() as i64
+                + e.b.unsigned_abs() as i64 * M::max_offset_y() as i64,
+        )
     });
-    let step_x: [E; 3] = setup.edges.map(|e| E::from_i64(e.a << 4));
-    let step_y = setup.edges.map(|e| e.b << 4);
+    let step_x: [E; 3] = setup.edges.map(|e| E::from_i64((e.a as i64) << 4));
+    let step_y = setup.edges.map(|e| (e.b as i64) << 4);
     let columns = (setup.x1 - setup.x0) as i64 + 1;
     let (start_x, start_y) = start;
     let dz = setup.depth.dx;

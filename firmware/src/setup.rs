@@ -63,9 +63,9 @@ pub enum ColorSource {
 /// sample, below `2 * 2^17 * 7 < 2^22`) the per-sample values fit `i32`.
 pub struct Edge {
     /// dE/dx per 1/16 pixel.
-    pub a: i64,
+    pub a: i32,
     /// dE/dy per 1/16 pixel.
-    pub b: i64,
+    pub b: i32,
     /// Biased value at the center of the bounding box's first pixel.
     pub origin: i64,
 }
@@ -267,8 +267,8 @@ impl TriangleSetup {
             let top_left = a > 0 || (a == 0 && b > 0);
             // E at the first pixel's center: a (cx - xa) + b (cy - ya), biased.
             *e = Edge {
-                a: a as i64,
-                b: b as i64,
+                a,
+                b,
                 origin: wide(a, cx - xs[ia]) + wide(b, cy - ys[ia]) - if top_left { 0 } else { 1 },
             };
         }

@@ -661,9 +661,10 @@ fn piece_setup(
         let b = xs[ib] - xs[ia];
         let top_left = a > 0 || (a == 0 && b > 0);
         let c = -(a * xs[ia] + b * ys[ia]) - if top_left { 0 } else { 1 };
+        // Within the guard band, `a` and `b` are below 2^18 (see `Edge`).
         *e = Edge {
-            a,
-            b,
+            a: a as i32,
+            b: b as i32,
             origin: a * cx + b * cy + c,
         };
     }

@@ -25,8 +25,8 @@ fn edge(xa: i64, ya: i64, xb: i64, yb: i64) -> (Edge, i64) {
     let top_left = a > 0 || (a == 0 && b > 0);
     let c = -(a * xa + b * ya) - if top_left { 0 } else { 1 };
     let e = Edge {
-        a,
-        b,
+        a: a as i32,
+        b: b as i32,
         origin: a * 8 + b * 8 + c,
     };
     (e, c)
@@ -98,9 +98,9 @@ fn measure<M: CoverageMask>(seed: u64) -> (f64, f64) {
         }
         let (e, c) = edge(xa, ya, xb, yb);
         // The (unbiased) line must cross the pixel's interior.
-        let unbiased = -(e.a * xa + e.b * ya);
-        let corners =
-            [(0, 0), (16, 0), (16, 16), (0, 16)].map(|(x, y)| e.a * x + e.b * y + unbiased);
+        let unbiased = -(i64::from(e.a) * xa + i64::from(e.b) * ya);
+        let corners = [(0, 0), (16, 0), (16, 16), (0, 16)]
+            .map(|(x, y)| i64::from(e.a) * x + i64::from(e.b) * y + unbiased);
         if !(corners.iter().any(|&v| v > 0) && corners.iter().any(|&v| v < 0)) {
             continue;
         }
@@ -109,7 +109,9 @@ fn measure<M: CoverageMask>(seed: u64) -> (f64, f64) {
         // Every bit is the sign of the biased edge function at that sample.
         for j in 0..M::ROWS {
             for i in 0..M::COLS {
-                let v = e.a * (8 + offset(i, M::COLS)) + e.b * (8 + offset(j, M::ROWS)) + c;
+                let v = i64::from(e.a) * (8 + offset(i, M::COLS))
+                    + i64::from(e.b) * (8 + offset(j, M::ROWS))
+                    + c;
                 assert_eq!(
                     mask.get(j * M::COLS + i),
                     v >= 0,
@@ -119,7 +121,11 @@ fn measure<M: CoverageMask>(seed: u64) -> (f64, f64) {
             }
         }
         let covered = mask.count() as f64 / M::SAMPLES as f64;
-        let area = exact_area(e.a as f64, e.b as f64, unbiased as f64);
+        let area = exact_area(
+            i64::from(e.a) as f64,
+            i64::from(e.b) as f64,
+            unbiased as f64,
+        );
         let err = (covered - area).abs();
         if dx != 0 && dy != 0 {
             max_err_sloped = max_err_sloped.max(err);

@@ -247,10 +247,10 @@ fn on_edge_samples<M: CoverageMask>(s: &TriangleSetup) -> u64 {
                     let hit = s.edges.iter().any(|e| {
                         let top_left = e.a > 0 || (e.a == 0 && e.b > 0);
                         let v = e.origin
-                            + (x - s.x0) as i64 * 16 * e.a
-                            + (y - s.y0) as i64 * 16 * e.b
-                            + e.a * offset(i, M::COLS)
-                            + e.b * offset(j, M::ROWS)
+                            + (x - s.x0) as i64 * 16 * e.a as i64
+                            + (y - s.y0) as i64 * 16 * e.b as i64
+                            + e.a as i64 * offset(i, M::COLS)
+                            + e.b as i64 * offset(j, M::ROWS)
                             + if top_left { 0 } else { 1 };
                         v == 0
                     });
