@@ -696,15 +696,25 @@ impl QuadraticWalk {
     /// Starts at row `j` of the bounding box by direct evaluation (once per
     /// band; additions from there on).
     pub fn start(p: &[QuadraticPolynomial; 3], j: i64) -> Self {
-        let wide = |v: i128| v as i64;
-        Self {
-            value: p.map(|p| p.eval(0, j)),
-            first_x: p.map(|p| wide(p.a as i128 + p.c as i128 * j as i128 + p.d as i128)),
-            first_y: p.map(|p| wide(p.b as i128 * (2 * j as i128 + 1) + p.e as i128)),
-            second_x: p.map(|p| 2 * p.a),
-            second_y: p.map(|p| 2 * p.b),
-            cross: p.map(|p| p.c),
+        let mut walk = Self {
+            value: [0; 3],
+            first_x: [0; 3],
+            first_y: [0; 3],
+            second_x: [0; 3],
+            second_y: [0; 3],
+            cross: [0; 3],
+        };
+        // Each result fits `i64` (see the module's ranges), so wrapping
+        // arithmetic gives it exactly even where a partial product does not.
+        for (c, p) in p.iter().enumerate() {
+            walk.value[c] = p.b.wrapping_mul(j).wrapping_add(p.e).wrapping_mul(j).wrapping_add(p.f);
+            walk.first_x[c] = p.a.wrapping_add(p.c.wrapping_mul(j)).wrapping_add(p.d);
+            walk.first_y[c] = p.b.wrapping_mul(2 * j + 1).wrapping_add(p.e);
+            walk.second_x[c] = 2 * p.a;
+            walk.second_y[c] = 2 * p.b;
+            walk.cross[c] = p.c;
         }
+        walk
     }
 
     /// The 8-bit color of a row state.
