@@ -707,7 +707,11 @@ impl QuadraticWalk {
         // Each result fits `i64` (see the module's ranges), so wrapping
         // arithmetic gives it exactly even where a partial product does not.
         for (c, p) in p.iter().enumerate() {
-            walk.value[c] = p.b.wrapping_mul(j).wrapping_add(p.e).wrapping_mul(j).wrapping_add(p.f);
+            walk.value[c] =
+                p.b.wrapping_mul(j)
+                    .wrapping_add(p.e)
+                    .wrapping_mul(j)
+                    .wrapping_add(p.f);
             walk.first_x[c] = p.a.wrapping_add(p.c.wrapping_mul(j)).wrapping_add(p.d);
             walk.first_y[c] = p.b.wrapping_mul(2 * j + 1).wrapping_add(p.e);
             walk.second_x[c] = 2 * p.a;

@@ -261,8 +261,6 @@ pub struct FirmwareFrameStats {
     pub max_in_pixel: u64,
     /// Triangles in the scene.
     pub triangles: u64,
-    /// FNV-1a checksum of the frame's bytes.
-    pub checksum: u64,
     /// The stack's high-water mark since reset, in bytes, after this frame (0
     /// from a firmware that does not report it).
     pub stack_peak: u64,
@@ -378,7 +376,7 @@ pub fn run_m4(elf: &Path, workdir: &Path, timeout: Duration) -> Result<FirmwareR
             .split(',')
             .map(|f| f.trim().parse().unwrap_or(0))
             .collect();
-        if v.len() < 13 {
+        if v.len() < 12 {
             return Err(format!("stats.csv: short line '{line}'"));
         }
         stats.push(FirmwareFrameStats {
@@ -394,9 +392,8 @@ pub fn run_m4(elf: &Path, workdir: &Path, timeout: Duration) -> Result<FirmwareR
             pool_peak: v[9],
             max_in_pixel: v[10],
             triangles: v[11],
-            checksum: v[12],
             // Columns after the ones above are optional; more are ignored.
-            stack_peak: v.get(13).copied().unwrap_or(0),
+            stack_peak: v.get(12).copied().unwrap_or(0),
         });
     }
     let mut frames = Vec::new();

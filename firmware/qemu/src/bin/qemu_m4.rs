@@ -81,7 +81,6 @@ impl Drop for HostFile {
 struct SemihostingFrameSink {
     file: Option<HostFile>,
     bytes: [u8; WIDTH * 3],
-    checksum: u32,
     ticks: u64,
 }
 
@@ -94,10 +93,6 @@ impl LineSink for SemihostingFrameSink {
             dst[0] = c.r();
             dst[1] = c.g();
             dst[2] = c.b();
-        }
-        // FNV-1a over the line, so a log shows whether two runs drew the same frame.
-        for &b in &self.bytes[..pixels.len() * 3] {
-            self.checksum = (self.checksum ^ b as u32).wrapping_mul(0x0100_0193);
         }
         let result = match &mut self.file {
             Some(f) => f.write_all(&self.bytes[..pixels.len() * 3]).map_err(|_| ()),
@@ -280,7 +275,6 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
         let mut sink = SemihostingFrameSink {
             file,
             bytes: [0; WIDTH * 3],
-            checksum: 0x811C_9DC5,
             ticks: 0,
         };
         let options = FrameOptions {
@@ -346,7 +340,7 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
             stack_reserved
         );
         defmt::info!(
-            "frame {=usize}: {=u64} instructions ({=u64} rendering, {=u64} output), {=u64} fragments, {=u64} merges, pool peak {=u32}, checksum {=u32:#x}",
+            "frame {=usize}: {=u64} instructions ({=u64} rendering, {=u64} output), {=u64} fragments, {=u64} merges, pool peak {=u32}",
             i,
             instructions,
             instructions - output,
@@ -354,7 +348,6 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
             b.fragments_generated,
             b.merges,
             b.pool_peak,
-            sink.checksum
         );
         write_fields(
             stats_file,
@@ -371,7 +364,6 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
                 b.pool_peak as u64,
                 b.max_fragments_in_pixel as u64,
                 stats.geometry.triangles_in as u64,
-                sink.checksum as u64,
                 stack_peak as u64,
             ],
         );
@@ -405,7 +397,7 @@ fn main() -> ! {
         None => fail("cannot open stats.csv on the host"),
     };
     let _ = stats_file.write_all(
-        b"frame,instructions,output_instructions,generated,stored,hidden_on_arrival,removed_hidden,merges,discarded,pool_peak,max_in_pixel,triangles,checksum,stack_peak\n",
+        b"frame,instructions,output_instructions,generated,stored,hidden_on_arrival,removed_hidden,merges,discarded,pool_peak,max_in_pixel,triangles,stack_peak\n",
     );
 
     struct Frames<'f> {
