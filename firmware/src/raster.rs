@@ -240,6 +240,53 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
     true
 }
 
+/// What [`walk_pixels`] does with each pixel of a triangle: offer its
+/// fragment to the buffer (probing for the first survivor) or insert it.
+/// A trait rather than a closure so the per-pixel work is always inlined
+/// into the walk's loops.
+trait PixelVisitor<M: CoverageMask> {
+    /// Handles the fragment at image pixel `(x, y)` with coverage `mask`,
+    /// depth plane `z` and `color`; `true` stops the walk.
+    fn visit(&mut self, x: u16, y: u16, mask: M, z: i64, color: Rgb888) -> bool;
+}
+
+/// Offers fragments without a color to [`BandBuffer::survives`] until one
+/// survives, and notes where.
+struct Probe<'a, B> {
+    setup: &'a TriangleSetup,
+    band_y0: u16,
+    buffer: &'a mut B,
+    first: Option<(u16, u16)>,
+}
+
+impl<M: CoverageMask, B: BandBuffer<M>> PixelVisitor<M> for Probe<'_, B> {
+    #[inline(always)]
+    fn visit(&mut self, x: u16, y: u16, mask: M, z: i64, color: Rgb888) -> bool {
+        let probe = fragment_at(self.setup, mask, z, color);
+        let found = self.buffer.survives(x, y - self.band_y0, &probe);
+        if found {
+            self.first = Some((x, y));
+        }
+        found
+    }
+}
+
+/// Inserts every fragment.
+struct Insert<'a, B> {
+    setup: &'a TriangleSetup,
+    band_y0: u16,
+    buffer: &'a mut B,
+}
+
+impl<M: CoverageMask, B: BandBuffer<M>> PixelVisitor<M> for Insert<'_, B> {
+    #[inline(always)]
+    fn visit(&mut self, x: u16, y: u16, mask: M, z: i64, color: Rgb888) -> bool {
+        let fragment = fragment_at(self.setup, mask, z, color);
+        self.buffer.insert(x, y - self.band_y0, &fragment);
+        false
+    }
+}
+
 /// The image rows of a triangle within one band.
 #[derive(Clone, Copy)]
 struct RowRange {
@@ -283,26 +330,23 @@ where
     F: FnOnce() -> ColorPlanes,
 {
     let samples = setup.edges.map(|e| M::edge_samples(e.a, e.b));
-    let mut first = None;
     // Probing needs no color: the walk of a constant costs nothing.
     let mut no_color = ConstantWalk(Rgb888::new(0, 0, 0));
+    let mut probe = Probe {
+        setup,
+        band_y0: rows.band_y0,
+        buffer: &mut *buffer,
+        first: None,
+    };
     walk_pixels::<M, E, _, _>(
         setup,
         &samples,
         rows.last,
         (setup.x0, rows.first),
         &mut no_color,
-        |x, y, mask, z, color| {
-            let probe = fragment_at(setup, mask, z, color);
-            if buffer.survives(x, y - rows.band_y0, &probe) {
-                first = Some((x, y));
-                true
-            } else {
-                false
-            }
-        },
+        &mut probe,
     );
-    let Some(start) = first else {
+    let Some(start) = probe.first else {
         return;
     };
     // One loop per kind of color, so the per-pixel work has no branch on it.
@@ -343,17 +387,12 @@ fn insert_from<M, B, E, W>(
     E: EdgeValue,
     W: ColorWalk,
 {
-    walk_pixels::<M, E, _, _>(
+    let mut insert = Insert {
         setup,
-        samples,
-        rows.last,
-        start,
-        &mut walk,
-        |x, y, mask, z, color| {
-            buffer.insert(x, y - rows.band_y0, &fragment_at(setup, mask, z, color));
-            false
-        },
-    );
+        band_y0: rows.band_y0,
+        buffer,
+    };
+    walk_pixels::<M, E, _, _>(setup, samples, rows.last, start, &mut walk, &mut insert);
 }
 
 /// The columns of one row of a triangle's bounding box (counted from its first
@@ -440,9 +479,9 @@ fn row_span<E: EdgeValue>(
 
 /// Visits the pixels of `setup` with a non-empty mask, from pixel `start`
 /// (image coordinates) to the end of image row `y_last`, rows top to bottom and
-/// left to right, calling `visit(x, y, mask, depth, color)` (depth with 16
+/// left to right, calling `visitor.visit(x, y, mask, depth, color)` (depth with 16
 /// extra fraction bits, color from `walk`, which starts positioned at the
-/// first column of `start`'s row); stops early when `visit` returns `true`.
+/// first column of `start`'s row); stops early when it returns `true`.
 ///
 /// Per row, [`row_span`] finds the pixels no edge rules out (every edge value
 /// at the center at least minus its margin: a convex set, so one run per row)
@@ -456,12 +495,12 @@ fn walk_pixels<M, E, W, V>(
     y_last: u16,
     start: (u16, u16),
     walk: &mut W,
-    mut visit: V,
+    visitor: &mut V,
 ) where
     M: CoverageMask,
     E: EdgeValue,
     W: ColorWalk,
-    V: FnMut(u16, u16, M, i64, Rgb888) -> bool,
+    V: PixelVisitor<M>,
 {
     let margin: [E; 3] = setup.edges.map(|e| {
         E::from_i64(
@@ -517,7 +556,7 @@ fn walk_pixels<M, E, W, V>(
                 while k < to {
                     if let Some(mask) = pixel_coverage::<M, E>(&at, samples, &margin) {
                         if !mask.is_empty()
-                            && visit((x0 + k) as u16, row, mask, z, walk.color(&color))
+                            && visitor.visit((x0 + k) as u16, row, mask, z, walk.color(&color))
                         {
                             return;
                         }
@@ -535,7 +574,7 @@ fn walk_pixels<M, E, W, V>(
         // The interior: full masks.
         let (mut k, to) = (span.full_start as i32, span.full_end as i32);
         while k < to {
-            if visit((x0 + k) as u16, row, M::FULL, z, walk.color(&color)) {
+            if visitor.visit((x0 + k) as u16, row, M::FULL, z, walk.color(&color)) {
                 return;
             }
             walk.step(&mut color);
