@@ -38,6 +38,25 @@ impl<M: CoverageMask> Fragment<M> {
     }
 }
 
+/// The depth a fragment stores for a depth-plane value `plane` at its pixel
+/// center (depth units with 16 extra fraction bits, [`crate::setup::Plane`]):
+/// rounded to nearest and clamped to `0 ..= DEPTH_MAX`.
+#[inline(always)]
+pub fn fragment_depth(plane: i64) -> u32 {
+    const _: () = assert!(DEPTH_MAX == (1 << 24) - 1);
+    let rounded = plane + (1 << 15);
+    // The depth is in range exactly when the high word is below 2^8: one
+    // comparison in the common case.
+    let high = (rounded >> 32) as i32;
+    if (high as u32) < 1 << 8 {
+        (rounded >> 16) as u32
+    } else if high < 0 {
+        0
+    } else {
+        DEPTH_MAX
+    }
+}
+
 /// A fragment as it sits in the main buffer or the shared pool.
 ///
 /// Layout: the mask, then three 32-bit words that each hold a 24-bit depth

@@ -749,8 +749,8 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
             self.strips.stored(x as usize, &packed);
             self.strips.covered(x as usize, M::EMPTY, fragment.mask);
             self.counts[p] = 1;
+            // (A pixel holding one fragment is counted in `stats`.)
             self.stats.fragments_stored += 1;
-            self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(1);
             return;
         }
         self.insert_into_list(x, p, fragment);
@@ -783,9 +783,15 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     }
 
     fn stats(&self) -> BufferStats {
-        // The pool keeps its own peak, so inserting needs not copy it.
+        // The pool keeps its own peak, so inserting needs not copy it; a
+        // pixel's first fragment does not update the most in a pixel, which
+        // is at least one once anything is stored.
         BufferStats {
             pool_peak: self.stats.pool_peak.max(self.pool.peak() as u32),
+            max_fragments_in_pixel: self
+                .stats
+                .max_fragments_in_pixel
+                .max((self.stats.fragments_stored > 0) as u32),
             ..self.stats
         }
     }

@@ -20,7 +20,7 @@
 use crate::band_buffer::BandBuffer;
 use crate::coverage::CoverageMask;
 use crate::fixed_point::DEPTH_MAX;
-use crate::fragment::Fragment;
+use crate::fragment::{fragment_depth, Fragment};
 use crate::setup::{ColorPlanes, Edge, TriangleSetup};
 use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, PhongWalk, QuadraticWalk};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -303,17 +303,9 @@ fn fragment_at<M: CoverageMask>(
     z: i64,
     color: Rgb888,
 ) -> Fragment<M> {
-    let z = (z + (1 << 15)) >> 16;
     Fragment {
         mask,
-        // One comparison in the common case.
-        z: if (z as u64) <= DEPTH_MAX as u64 {
-            z as u32
-        } else if z < 0 {
-            0
-        } else {
-            DEPTH_MAX
-        },
+        z: fragment_depth(z),
         dzdx: setup.dzdx,
         dzdy: setup.dzdy,
         color,
