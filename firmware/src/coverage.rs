@@ -284,6 +284,17 @@ macro_rules! edge_by_table {
     };
 }
 
+/// Set bits of each byte value.
+const BYTE_BITS: [u8; 256] = {
+    let mut table = [0u8; 256];
+    let mut i = 0;
+    while i < 256 {
+        table[i] = (i as u32).count_ones() as u8;
+        i += 1;
+    }
+    table
+};
+
 macro_rules! coverage_mask {
     ($(#[$doc:meta])* $name:ident, $bits:ty, $cols:expr, $rows:expr, $label:expr, $edge:ident) => {
         $(#[$doc])*
@@ -331,7 +342,14 @@ macro_rules! coverage_mask {
 
             #[inline]
             fn count(self) -> u32 {
-                self.0.count_ones()
+                // Cortex-M has no population count: masks of up to 16 bits
+                // take a table lookup per byte instead of the bit tricks.
+                if <$bits>::BITS <= 16 {
+                    let v = self.0 as u16;
+                    (BYTE_BITS[(v & 0xFF) as usize] + BYTE_BITS[(v >> 8) as usize]) as u32
+                } else {
+                    self.0.count_ones()
+                }
             }
             #[inline]
             fn get(self, index: u32) -> bool {

@@ -524,21 +524,31 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
     /// `background`, rounded to nearest.
     #[inline(never)]
     fn resolve_pixel(&self, p: usize, n: usize, background: Rgb888) -> Rgb888 {
-        let first = &self.main[p * self.config.main_slots as usize];
+        let n_main = self.config.main_slots as usize;
+        let first = &self.main[p * n_main];
         if n == 1 && first.mask() == M::FULL {
             // An interior pixel: one fragment covers every sample.
             let [r, g, b] = first.rgb();
             return Rgb888::new(r, g, b);
         }
         let (mut r, mut g, mut b, mut covered) = (0u32, 0u32, 0u32, 0u32);
-        for i in 0..n {
-            let f = self.slot_ref(p, i);
+        let mut add = |f: &PackedFragment<M>| {
             let k = f.mask().count();
             let [fr, fg, fb] = f.rgb();
             r += fr as u32 * k;
             g += fg as u32 * k;
             b += fb as u32 * k;
             covered += k;
+        };
+        // The pixel's main slots, then the pool slots its addresses name.
+        for f in &self.main[p * n_main..p * n_main + n.min(n_main)] {
+            add(f);
+        }
+        if n > n_main {
+            let first = p * self.config.extra_addresses as usize;
+            for a in &self.addresses[first..first + (n - n_main)] {
+                add(self.pool.get(a.index()));
+            }
         }
         let rest = M::SAMPLES - covered.min(M::SAMPLES);
         let (half, shift) = (M::SAMPLES / 2, M::SAMPLES_LOG2);
