@@ -153,9 +153,9 @@ pub struct TriangleSetup {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Corners {
     /// x in 1/16 pixel, clamped to the guard band.
-    xs: [i64; 3],
+    xs: [i32; 3],
     /// y in 1/16 pixel, clamped to the guard band.
-    ys: [i64; 3],
+    ys: [i32; 3],
     /// Vertex colors (Q8).
     colors: [ColorQ8; 3],
     /// Whether vertices 1 and 2 were swapped to make the edges positive inside.
@@ -307,8 +307,8 @@ impl TriangleSetup {
             dzdx: round16(gx),
             dzdy: round16(gy),
             corners: Corners {
-                xs: xs.map(i64::from),
-                ys: ys.map(i64::from),
+                xs,
+                ys,
                 colors: v.map(|p| p.color),
                 swapped,
                 area2: reciprocal,
@@ -335,6 +335,7 @@ impl TriangleSetup {
             swapped,
             area2,
         } = self.corners;
+        let (xs, ys) = (xs.map(i64::from), ys.map(i64::from));
         let (x0, y0) = (self.x0 as i64, self.y0 as i64);
         let half = 1i64 << (SUBPIXEL_BITS - 1);
         let center = ((x0 << SUBPIXEL_BITS) + half, (y0 << SUBPIXEL_BITS) + half);
