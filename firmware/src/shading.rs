@@ -660,7 +660,18 @@ impl<V: PlaneValue> ColorWalk for LinearWalk<V> {
 /// A quadratic channel in [`QUADRATIC_FRACTION_BITS`] to 8 bits, rounded and clamped.
 #[inline]
 fn channel_quadratic(v: i64) -> u8 {
-    channel(v, QUADRATIC_FRACTION_BITS)
+    const _: () = assert!(QUADRATIC_FRACTION_BITS == 28);
+    // The same as `channel(v, 28)`, decided on the high word: the rounded
+    // value is in `[0, 255]` exactly when that word is below 16.
+    let rounded = v + (1 << 27);
+    let high = (rounded >> 32) as i32;
+    if (high as u32) < 16 {
+        (rounded >> 28) as u8
+    } else if high < 0 {
+        0
+    } else {
+        255
+    }
 }
 
 /// Quadratic colors by forward differences: per pixel and channel the value
