@@ -251,23 +251,18 @@ trait PixelVisitor<M: CoverageMask> {
 }
 
 /// Offers fragments without a color to [`BandBuffer::survives`] until one
-/// survives, and notes where.
+/// survives.
 struct Probe<'a, B> {
     setup: &'a TriangleSetup,
     band_y0: u16,
     buffer: &'a mut B,
-    first: Option<(u16, u16)>,
 }
 
 impl<M: CoverageMask, B: BandBuffer<M>> PixelVisitor<M> for Probe<'_, B> {
     #[inline(always)]
     fn visit(&mut self, x: u16, y: u16, mask: M, z: i64, color: Rgb888) -> bool {
         let probe = fragment_at(self.setup, mask, z, color);
-        let found = self.buffer.survives(x, y - self.band_y0, &probe);
-        if found {
-            self.first = Some((x, y));
-        }
-        found
+        self.buffer.survives(x, y - self.band_y0, &probe)
     }
 }
 
@@ -321,31 +316,24 @@ where
     E: EdgeValue,
     F: FnOnce() -> ColorPlanes,
 {
-    let samples = setup.edges.map(|e| M::edge_samples(e.a, e.b));
+    let edges = EdgeWalk::<M, E>::new(setup);
     // Probing needs no color: the walk of a constant costs nothing.
     let mut no_color = ConstantWalk(Rgb888::new(0, 0, 0));
     let mut probe = Probe {
         setup,
         band_y0: rows.band_y0,
         buffer: &mut *buffer,
-        first: None,
     };
-    walk_pixels::<M, E, _, _>(
-        setup,
-        &samples,
-        rows.last,
-        (setup.x0, rows.first),
-        &mut no_color,
-        &mut probe,
-    );
-    let Some(start) = probe.first else {
+    let first = edges.first_row(setup, rows.first);
+    let Some(start) = walk_pixels(setup, &edges, rows.last, first, &mut no_color, &mut probe)
+    else {
         return;
     };
     // One loop per kind of color, so the per-pixel work has no branch on it.
-    let j = (start.1 - setup.y0) as i64;
+    let j = (start.y - setup.y0) as i64;
     macro_rules! insert_with {
         ($walk:expr) => {
-            insert_from::<M, B, E, _>(setup, &samples, rows, start, $walk, buffer)
+            insert_from::<M, B, E, _>(setup, &edges, rows, start, $walk, buffer)
         };
     }
     match colors() {
@@ -362,15 +350,15 @@ where
     }
 }
 
-/// Inserts the fragments of `setup` from pixel `start` (image coordinates) on,
+/// Inserts the fragments of `setup` from `start` (where the probe stopped) on,
 /// colors from `walk` (positioned at the first column of `start`'s row).
 // Kept out of line: one copy per kind of color, each with its own registers.
 #[inline(never)]
 fn insert_from<M, B, E, W>(
     setup: &TriangleSetup,
-    samples: &[M::EdgeSamples; 3],
+    edges: &EdgeWalk<M, E>,
     rows: RowRange,
-    start: (u16, u16),
+    start: WalkStart<E>,
     mut walk: W,
     buffer: &mut B,
 ) where
@@ -384,7 +372,70 @@ fn insert_from<M, B, E, W>(
         band_y0: rows.band_y0,
         buffer,
     };
-    walk_pixels::<M, E, _, _>(setup, samples, rows.last, start, &mut walk, &mut insert);
+    walk_pixels(setup, edges, rows.last, start, &mut walk, &mut insert);
+}
+
+/// What the pixel walks of one triangle in one band share: per edge its
+/// steps per pixel in x and y, the margin beyond which a pixel needs no look
+/// at its samples (the edge's largest change from the center to a sample),
+/// and the mask grid's tables.
+struct EdgeWalk<M: CoverageMask, E> {
+    margin: [E; 3],
+    step_x: [E; 3],
+    step_y: [E; 3],
+    samples: [M::EdgeSamples; 3],
+    /// Columns of the bounding box.
+    columns: i64,
+}
+
+impl<M: CoverageMask, E: EdgeValue> EdgeWalk<M, E> {
+    #[inline(always)]
+    fn new(setup: &TriangleSetup) -> Self {
+        Self {
+            margin: setup.edges.map(|e| {
+                E::from_i64(
+                    e.a.unsigned_abs() as i64 * M::max_offset_x() as i64
+                        + e.b.unsigned_abs() as i64 * M::max_offset_y() as i64,
+                )
+            }),
+            step_x: setup.edges.map(|e| E::from_i64((e.a as i64) << 4)),
+            step_y: setup.edges.map(|e| E::from_i64((e.b as i64) << 4)),
+            samples: setup.edges.map(|e| M::edge_samples(e.a, e.b)),
+            columns: (setup.x1 - setup.x0) as i64 + 1,
+        }
+    }
+
+    /// The span of the row whose first pixel has edge values `e`.
+    #[inline(always)]
+    fn span(&self, e: &[E; 3]) -> RowSpan {
+        row_span(e, &self.step_x, &self.margin, self.columns, M::SAMPLES == 1)
+    }
+
+    /// A walk from the start of image row `y` (within the bounding box).
+    #[inline(always)]
+    fn first_row(&self, setup: &TriangleSetup, y: u16) -> WalkStart<E> {
+        let j = (y - setup.y0) as i64;
+        let e_row: [E; 3] = core::array::from_fn(|i| {
+            E::from_i64(setup.edges[i].origin + j * ((setup.edges[i].b as i64) << 4))
+        });
+        WalkStart {
+            y,
+            e_row,
+            z_row: setup.depth.origin + j * setup.depth.dy,
+            span: self.span(&e_row),
+        }
+    }
+}
+
+/// Where a pixel walk starts: image row `y`, the edge values and depth at
+/// the bounding box's first column there, and the row's pixels from the
+/// start on.
+#[derive(Clone, Copy)]
+struct WalkStart<E> {
+    y: u16,
+    e_row: [E; 3],
+    z_row: i64,
+    span: RowSpan,
 }
 
 /// The columns of one row of a triangle's bounding box (counted from its first
@@ -469,11 +520,12 @@ fn row_span<E: EdgeValue>(
     }
 }
 
-/// Visits the pixels of `setup` with a non-empty mask, from pixel `start`
-/// (image coordinates) to the end of image row `y_last`, rows top to bottom and
-/// left to right, calling `visitor.visit(x, y, mask, depth, color)` (depth with 16
-/// extra fraction bits, color from `walk`, which starts positioned at the
-/// first column of `start`'s row); stops early when it returns `true`.
+/// Visits the pixels of `setup` with a non-empty mask from `start` to the end
+/// of image row `y_last`, rows top to bottom and left to right, calling
+/// `visitor.visit(x, y, mask, depth, color)` (depth with 16 extra fraction
+/// bits, color from `walk`, which starts positioned at the first column of
+/// `start`'s row). When it returns `true` the walk stops and returns where,
+/// so that another walk can go on from that pixel (included).
 ///
 /// Per row, [`row_span`] finds the pixels no edge rules out (every edge value
 /// at the center at least minus its margin: a convex set, so one run per row)
@@ -483,97 +535,100 @@ fn row_span<E: EdgeValue>(
 #[inline(always)]
 fn walk_pixels<M, E, W, V>(
     setup: &TriangleSetup,
-    samples: &[M::EdgeSamples; 3],
+    edges: &EdgeWalk<M, E>,
     y_last: u16,
-    start: (u16, u16),
+    start: WalkStart<E>,
     walk: &mut W,
     visitor: &mut V,
-) where
+) -> Option<WalkStart<E>>
+where
     M: CoverageMask,
     E: EdgeValue,
     W: ColorWalk,
     V: PixelVisitor<M>,
 {
-    let margin: [E; 3] = setup.edges.map(|e| {
-        E::from_i64(
-            e.a.unsigned_abs() as i64 * M::max_offset_x() as i64
-                + e.b.unsigned_abs() as i64 * M::max_offset_y() as i64,
-        )
-    });
-    let step_x: [E; 3] = setup.edges.map(|e| E::from_i64((e.a as i64) << 4));
-    let step_y = setup.edges.map(|e| (e.b as i64) << 4);
-    let columns = (setup.x1 - setup.x0) as i64 + 1;
-    let (start_x, start_y) = start;
     let dz = setup.depth.dx;
     let x0 = setup.x0 as i32;
     // Edge values and depth at the first pixel of the current row, stepped
-    // down one row at a time (the same integers as evaluating each row).
-    let first_row = (start_y - setup.y0) as i64;
-    let mut e_row: [E; 3] =
-        core::array::from_fn(|i| E::from_i64(setup.edges[i].origin + first_row * step_y[i]));
-    let step_y: [E; 3] = step_y.map(E::from_i64);
-    let mut z_row = setup.depth.origin + first_row * setup.depth.dy;
-    // Plain integer counters: the pixel loops below keep few values live.
-    let mut y = start_y as i32;
-    while y <= y_last as i32 {
-        if y != start_y as i32 {
-            walk.next_row();
-            for i in 0..3 {
-                e_row[i] = e_row[i] + step_y[i];
-            }
-            z_row += setup.depth.dy;
-        }
-        let e = e_row;
-        let mut span = row_span(&e, &step_x, &margin, columns, M::SAMPLES == 1);
-        if y == start_y as i32 {
-            // Resume at the start column.
-            let resume = (start_x - setup.x0) as i64;
-            span.start = span.start.max(resume);
-            span.full_start = span.full_start.max(span.start);
-            span.full_end = span.full_end.max(span.full_start);
-        }
-        if span.start >= span.end {
-            y += 1;
-            continue;
-        }
-        let row = y as u16;
-        let mut color = walk.row();
-        walk.skip(&mut color, span.start as u16);
-        let mut z = z_row + span.start * dz;
-        // Pixels near an edge: their exact masks from the samples.
-        macro_rules! edge_pixels {
-            ($from:expr, $to:expr) => {
-                let mut at: [E; 3] = core::array::from_fn(|i| e[i] + step_x[i].times($from));
-                let (mut k, to) = ($from as i32, $to as i32);
-                while k < to {
-                    if let Some(mask) = pixel_coverage::<M, E>(&at, samples, &margin) {
-                        if !mask.is_empty()
-                            && visitor.visit((x0 + k) as u16, row, mask, z, walk.color(&color))
-                        {
-                            return;
-                        }
-                    }
-                    for i in 0..3 {
-                        at[i] = at[i] + step_x[i];
-                    }
-                    walk.step(&mut color);
-                    z += dz;
-                    k += 1;
-                }
+    // down one row at a time (the same integers as evaluating each row);
+    // plain integer counters: the pixel loops below keep few values live.
+    let WalkStart {
+        mut e_row,
+        mut z_row,
+        mut span,
+        ..
+    } = start;
+    let mut y = start.y as i32;
+    loop {
+        if span.start < span.end {
+            let row = y as u16;
+            let e = e_row;
+            let mut color = walk.row();
+            walk.skip(&mut color, span.start as u16);
+            let mut z = z_row + span.start * dz;
+            // Where to go on from column `k` (counted from the box's first).
+            let stop = |k: i32| {
+                let k = k as i64;
+                let full_start = span.full_start.max(k);
+                Some(WalkStart {
+                    y: row,
+                    e_row: e,
+                    z_row,
+                    span: RowSpan {
+                        start: k,
+                        full_start,
+                        full_end: span.full_end.max(full_start),
+                        end: span.end,
+                    },
+                })
             };
-        }
-        edge_pixels!(span.start, span.full_start);
-        // The interior: full masks.
-        let (mut k, to) = (span.full_start as i32, span.full_end as i32);
-        while k < to {
-            if visitor.visit((x0 + k) as u16, row, M::FULL, z, walk.color(&color)) {
-                return;
+            // Pixels near an edge: their exact masks from the samples.
+            macro_rules! edge_pixels {
+                ($from:expr, $to:expr) => {
+                    let mut at: [E; 3] =
+                        core::array::from_fn(|i| e[i] + edges.step_x[i].times($from));
+                    let (mut k, to) = ($from as i32, $to as i32);
+                    while k < to {
+                        if let Some(mask) =
+                            pixel_coverage::<M, E>(&at, &edges.samples, &edges.margin)
+                        {
+                            if !mask.is_empty()
+                                && visitor.visit((x0 + k) as u16, row, mask, z, walk.color(&color))
+                            {
+                                return stop(k);
+                            }
+                        }
+                        for i in 0..3 {
+                            at[i] = at[i] + edges.step_x[i];
+                        }
+                        walk.step(&mut color);
+                        z += dz;
+                        k += 1;
+                    }
+                };
             }
-            walk.step(&mut color);
-            z += dz;
-            k += 1;
+            edge_pixels!(span.start, span.full_start);
+            // The interior: full masks.
+            let (mut k, to) = (span.full_start as i32, span.full_end as i32);
+            while k < to {
+                if visitor.visit((x0 + k) as u16, row, M::FULL, z, walk.color(&color)) {
+                    return stop(k);
+                }
+                walk.step(&mut color);
+                z += dz;
+                k += 1;
+            }
+            edge_pixels!(span.full_end, span.end);
         }
-        edge_pixels!(span.full_end, span.end);
+        if y >= y_last as i32 {
+            return None;
+        }
         y += 1;
+        walk.next_row();
+        for i in 0..3 {
+            e_row[i] = e_row[i] + edges.step_y[i];
+        }
+        z_row += setup.depth.dy;
+        span = edges.span(&e_row);
     }
 }
