@@ -593,6 +593,28 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         self.stats.fragments_stored += 1;
     }
 
+    /// [`BandBuffer::survives`] for pixel `p`, which holds fragments.
+    #[inline(never)]
+    fn survives_in_list(&mut self, p: usize, fragment: &Fragment<M>) -> bool {
+        let n = self.counts[p] as usize;
+        let mut left = fragment.mask;
+        let hidden = self.any_stored(p, n, |stored| {
+            let overlap = stored.mask() & left;
+            if !overlap.is_empty() {
+                // Samples where the stored fragment is strictly nearer stay its own.
+                let vis = visibility_mask(fragment, &stored.unpack());
+                left = left & !(overlap & !vis);
+            }
+            left.is_empty()
+        });
+        if hidden {
+            self.stats.fragments_generated += 1;
+            self.stats.fragments_hidden_on_arrival += 1;
+            return false;
+        }
+        true
+    }
+
     /// [`BandBuffer::insert`] into pixel `p` (column `x`) that already holds
     /// fragments.
     #[inline(never)]
@@ -725,25 +747,12 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         self.stats.triangles_culled += hidden as u64;
     }
 
+    // Inlined into the probe: an empty pixel keeps every fragment; pixels
+    // that hold some are asked out of line.
+    #[inline]
     fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<M>) -> bool {
         let p = self.pixel_index(x, row);
-        let n = self.counts[p] as usize;
-        let mut left = fragment.mask;
-        let hidden = self.any_stored(p, n, |stored| {
-            let overlap = stored.mask() & left;
-            if !overlap.is_empty() {
-                // Samples where the stored fragment is strictly nearer stay its own.
-                let vis = visibility_mask(fragment, &stored.unpack());
-                left = left & !(overlap & !vis);
-            }
-            left.is_empty()
-        });
-        if hidden {
-            self.stats.fragments_generated += 1;
-            self.stats.fragments_hidden_on_arrival += 1;
-            return false;
-        }
-        true
+        self.counts[p] == 0 || self.survives_in_list(p, fragment)
     }
 
     // Inlined into the rasterizer: a pixel's first fragment (most of them) is
