@@ -114,7 +114,9 @@ pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
     band_y0: u16,
     band_rows: u16,
 ) -> Result<(), Rejection> {
-    let setup = TriangleSetup::new(vertices, params.cull_backfaces, params.width, params.height)?;
+    let accepted =
+        TriangleSetup::accept(vertices, params.cull_backfaces, params.width, params.height)?;
+    let setup = TriangleSetup::build(&accepted);
     // Faces turned away are drawn after the faces of the viewer and are mostly
     // behind them: for those a whole-triangle test pays. A face turned to the
     // viewer is rarely hidden and its probe finds a visible fragment as soon;

@@ -164,6 +164,26 @@ pub(crate) struct Corners {
     area2: Reciprocal,
 }
 
+/// A triangle that passed setup's rejection tests ([`TriangleSetup::accept`]).
+#[derive(Clone, Copy)]
+pub(crate) struct Accepted<'v> {
+    /// The vertices as given.
+    vertices: &'v [SetupVertex; 3],
+    /// Their indices in edge order (vertices 1 and 2 swapped or not).
+    order: [usize; 3],
+    /// Twice the area, positive.
+    area2: i64,
+    /// x of the corners in edge order, clamped to the guard band.
+    xs: [i32; 3],
+    /// y of the corners in edge order, clamped to the guard band.
+    ys: [i32; 3],
+    /// The bounding box on screen, first and last column and row.
+    x0: i32,
+    y0: i32,
+    x1: i32,
+    y1: i32,
+}
+
 /// Whether a triangle with window-space area `area2` (twice the signed area, from
 /// [`signed_area2`]) faces away from the viewer.
 #[inline]
@@ -223,6 +243,25 @@ impl TriangleSetup {
         width: u16,
         height: u16,
     ) -> Result<Self, Rejection> {
+        Ok(Self::build(&Self::accept(
+            v,
+            cull_backfaces,
+            width,
+            height,
+        )?))
+    }
+
+    /// The rejection tests of [`TriangleSetup::new`]: what passes them, with
+    /// the corners in edge order and clamped and the bounding box on screen.
+    /// (Kept apart from [`TriangleSetup::build`] so a caller's setup is
+    /// built where it lives, not moved out of a `Result`.)
+    #[inline(always)]
+    pub(crate) fn accept(
+        v: &[SetupVertex; 3],
+        cull_backfaces: bool,
+        width: u16,
+        height: u16,
+    ) -> Result<Accepted<'_>, Rejection> {
         let area2 = signed_area2(v);
         if area2 == 0 {
             return Err(Rejection::Degenerate);
@@ -232,17 +271,12 @@ impl TriangleSetup {
         }
         // Order so that the edge functions are positive inside.
         let swapped = area2 < 0;
-        let v = if area2 > 0 {
-            [v[0], v[1], v[2]]
-        } else {
-            [v[0], v[2], v[1]]
-        };
-        let area2 = area2.abs();
+        let order = if swapped { [0, 2, 1] } else { [0, 1, 2] };
         // Clamped corners fit `i32` (±2^16), their differences too (±2^17):
-        // the products below are single 32 x 32 -> 64-bit multiplications.
+        // the products of setup are single 32 x 32 -> 64-bit multiplications.
         let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
-        let xs = v.map(|p| p.x.clamp(-lim, lim));
-        let ys = v.map(|p| p.y.clamp(-lim, lim));
+        let xs = order.map(|k| v[k].x.clamp(-lim, lim));
+        let ys = order.map(|k| v[k].y.clamp(-lim, lim));
         // Bounding box in pixels, clipped to the screen.
         let min_x = xs[0].min(xs[1]).min(xs[2]) >> SUBPIXEL_BITS;
         let max_x = xs[0].max(xs[1]).max(xs[2]) >> SUBPIXEL_BITS;
@@ -251,10 +285,35 @@ impl TriangleSetup {
         if max_x < 0 || max_y < 0 || min_x >= width as i32 || min_y >= height as i32 {
             return Err(Rejection::Outside);
         }
-        let x0 = min_x.max(0);
-        let y0 = min_y.max(0);
-        let x1 = max_x.min(width as i32 - 1);
-        let y1 = max_y.min(height as i32 - 1);
+        Ok(Accepted {
+            vertices: v,
+            order,
+            area2: area2.abs(),
+            xs,
+            ys,
+            x0: min_x.max(0),
+            y0: min_y.max(0),
+            x1: max_x.min(width as i32 - 1),
+            y1: max_y.min(height as i32 - 1),
+        })
+    }
+
+    /// The setup of a triangle that passed [`TriangleSetup::accept`].
+    #[inline(always)]
+    pub(crate) fn build(accepted: &Accepted<'_>) -> Self {
+        let Accepted {
+            vertices,
+            order,
+            area2,
+            xs,
+            ys,
+            x0,
+            y0,
+            x1,
+            y1,
+        } = *accepted;
+        let v = order.map(|k| &vertices[k]);
+        let swapped = order[1] == 2;
         let half = 1i32 << (SUBPIXEL_BITS - 1);
         let cx = (x0 << SUBPIXEL_BITS) + half;
         let cy = (y0 << SUBPIXEL_BITS) + half;
@@ -297,7 +356,7 @@ impl TriangleSetup {
             dy: gy,
         };
         let round16 = |g: i64| saturate((g + (1 << 15)) >> 16, GRADIENT_LIMIT as i64) as i32;
-        Ok(Self {
+        Self {
             edges,
             x0: x0 as u16,
             y0: y0 as u16,
@@ -313,7 +372,7 @@ impl TriangleSetup {
                 swapped,
                 area2: reciprocal,
             },
-        })
+        }
     }
 
     /// Whether the triangle faces away from the viewer (clockwise on screen
