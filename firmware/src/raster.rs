@@ -250,35 +250,33 @@ trait PixelVisitor<M: CoverageMask> {
     fn visit(&mut self, x: u16, y: u16, mask: M, z: i64, color: Rgb888) -> bool;
 }
 
-/// Offers fragments without a color to [`BandBuffer::survives`] until one
-/// survives.
-struct Probe<'a, B> {
+/// The fragments of one triangle handed to the buffer: with `PROBE`, offered
+/// without a color to [`BandBuffer::survives`] until one survives; without,
+/// all inserted.
+struct TriangleFragments<'a, B, const PROBE: bool> {
     setup: &'a TriangleSetup,
     band_y0: u16,
     buffer: &'a mut B,
 }
 
-impl<M: CoverageMask, B: BandBuffer<M>> PixelVisitor<M> for Probe<'_, B> {
-    #[inline(always)]
-    fn visit(&mut self, x: u16, y: u16, mask: M, z: i64, color: Rgb888) -> bool {
-        let probe = fragment_at(self.setup, mask, z, color);
-        self.buffer.survives(x, y - self.band_y0, &probe)
-    }
-}
+/// Looks for a triangle's first fragment that survives.
+type Probe<'a, B> = TriangleFragments<'a, B, true>;
+/// Inserts every fragment of a triangle.
+type Insert<'a, B> = TriangleFragments<'a, B, false>;
 
-/// Inserts every fragment.
-struct Insert<'a, B> {
-    setup: &'a TriangleSetup,
-    band_y0: u16,
-    buffer: &'a mut B,
-}
-
-impl<M: CoverageMask, B: BandBuffer<M>> PixelVisitor<M> for Insert<'_, B> {
+impl<M: CoverageMask, B: BandBuffer<M>, const PROBE: bool> PixelVisitor<M>
+    for TriangleFragments<'_, B, PROBE>
+{
     #[inline(always)]
     fn visit(&mut self, x: u16, y: u16, mask: M, z: i64, color: Rgb888) -> bool {
         let fragment = fragment_at(self.setup, mask, z, color);
-        self.buffer.insert(x, y - self.band_y0, &fragment);
-        false
+        let row = y - self.band_y0;
+        if PROBE {
+            self.buffer.survives(x, row, &fragment)
+        } else {
+            self.buffer.insert(x, row, &fragment);
+            false
+        }
     }
 }
 
