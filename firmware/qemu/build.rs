@@ -198,7 +198,9 @@ fn main() {
     } else {
         bytes::fragment_memory(mask_bytes, w, band, main, extra, pool)
     };
-    let workspace_bytes = bytes::workspace_memory(w, h, desc.objects.len(), vertices, triangles);
+    let carried = env_num("FIRMWARE_CARRIED", defaults::CARRIED_COLORS);
+    let workspace_bytes =
+        bytes::workspace_memory(w, h, desc.objects.len(), vertices, triangles, carried);
     let ram_needed = buffer_bytes + workspace_bytes + stack_reserve;
     if ram_needed > board.ram {
         fail(&format!(
@@ -240,6 +242,7 @@ fn main() {
          /// Image size.\npub const WIDTH: usize = {w};\npub const HEIGHT: usize = {h};\n\
          /// Band height.\npub const BAND: usize = {band};\n\
          /// Fragment slots and pool addresses per pixel, pool slots.\npub const MAIN: usize = {main};\npub const EXTRA: usize = {extra};\npub const POOL: usize = {pool};\n\
+         /// Carried-colors entries.\npub const CARRIED: usize = {carried};\n\
          /// Scene size.\npub const VERTICES: usize = {vertices};\npub const TRIANGLES: usize = {triangles};\npub const OBJECTS_LEN: usize = {objects};\n\
          /// Turntable frames.\npub const FRAMES: usize = {frames};\n\
          /// Bytes the build script counted for the band buffer and the workspace (checked against the types).\npub const BUFFER_BYTES: usize = {buffer_bytes};\npub const WORKSPACE_BYTES: usize = {workspace_bytes};\n",

@@ -3,7 +3,7 @@
 use crate::coverage::CoverageMask;
 use crate::fragment::Fragment;
 use crate::raster::{hidden_in_band, rasterize};
-use crate::setup::{ColorSource, Rejection, SetupVertex, TriangleSetup};
+use crate::setup::{ColorPlanes, Rejection, SetupVertex, TriangleSetup};
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -126,7 +126,7 @@ pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
         return Ok(());
     }
     rasterize(&setup, band_y0, band_rows, buffer, || {
-        setup.color_planes((params.colors)())
+        (params.colors)(&setup)
     });
     Ok(())
 }
@@ -148,9 +148,11 @@ pub struct PoolUse {
 pub struct DrawParams<'c> {
     /// Skip the triangle when it faces away.
     pub cull_backfaces: bool,
-    /// How fragment colors are produced; asked only when the triangle leaves a
-    /// visible fragment (lighting normals cost work).
-    pub colors: &'c dyn Fn() -> ColorSource,
+    /// The color planes of the triangle, given its setup; asked only when
+    /// the triangle leaves a visible fragment (lighting and the quadratic fit
+    /// cost work). The frame driver's answer may come from an earlier band
+    /// ([`crate::color_carry`]).
+    pub colors: &'c dyn Fn(&TriangleSetup) -> ColorPlanes,
     /// Image width.
     pub width: u16,
     /// Image height.

@@ -107,6 +107,8 @@ pub mod band_buffer;
 #[doc(hidden)]
 pub mod clip;
 #[doc(hidden)]
+pub mod color_carry;
+#[doc(hidden)]
 pub mod coverage;
 #[doc(hidden)]
 pub mod fixed_point;

@@ -8,41 +8,93 @@
 
 use crate::band_buffer::{BandBuffer, DrawParams};
 use crate::clip::{clip_triangle, ClipVertex};
+use crate::color_carry::{CarriedColors, ColorCarry};
 use crate::coverage::CoverageMask;
-use crate::fixed_point::{Coord, SUBPIXEL_BITS};
+use crate::fixed_point::{Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::geometry::{outcode, project, ObjectTransform, ViewBasis};
 use crate::lighting::{color_q8, normalize_unit, LightSetup};
 use crate::scene::{Scene, SceneError, Shading};
+use crate::setup::TriangleSetup;
 use crate::setup::{is_backfacing, signed_area2, ColorSource, SetupVertex};
 use crate::shading::{clipped_piece_source, TriangleLighting};
 use crate::sink::LineSink;
 use crate::stats::{FrameStats, GeometryStats};
+use core::cell::{Cell, RefCell};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
-/// A vertex after transformation: window position, outcode and lit color.
+/// A vertex after transformation: window position, depth, outcode and lit
+/// color, packed into three words (12 bytes instead of 16: the frame
+/// workspace holds one per vertex of the scene).
+///
+/// Position and depth are valid when [`ScreenVertex::outcode`] is zero; they
+/// are kept within the guard band (`±2^16` in 1/16 pixel, 18 bits) and below
+/// `2^24` ([`DEPTH_MAX`]), which leaves room for the outcode (6 bits) and
+/// the color's three bytes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ScreenVertex {
-    /// x in 1/16 pixel (valid when `outcode == 0`).
-    pub x: i32,
-    /// y in 1/16 pixel (valid when `outcode == 0`).
-    pub y: i32,
-    /// Depth, 24 fraction bits (valid when `outcode == 0`).
-    pub z: u32,
-    /// Vertex color (lit, or the object's color).
-    pub color: [u8; 3],
-    /// Clip planes the vertex is outside of.
-    pub outcode: u8,
+    /// `x << 14 | outcode << 8 | red`.
+    x_outcode_red: i32,
+    /// `y << 8 | green`.
+    y_green: i32,
+    /// `z | blue << 24`.
+    z_blue: u32,
 }
 
 impl ScreenVertex {
     /// All zero: the initial value of workspace arrays (`static` arrays included).
     pub const EMPTY: Self = Self {
-        x: 0,
-        y: 0,
-        z: 0,
-        color: [0; 3],
-        outcode: 0,
+        x_outcode_red: 0,
+        y_green: 0,
+        z_blue: 0,
     };
+
+    /// A vertex at window position `x`, `y` (1/16 pixel, clamped to the guard
+    /// band), depth `z` (24 fraction bits, clamped to [`DEPTH_MAX`]), with
+    /// `color` and `outcode` (the clip planes it is outside of; six bits).
+    #[inline]
+    pub fn new(x: i32, y: i32, z: u32, color: [u8; 3], outcode: u8) -> Self {
+        let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
+        let (x, y) = (x.clamp(-lim, lim), y.clamp(-lim, lim));
+        Self {
+            x_outcode_red: (x << 14) | ((outcode & 0x3f) as i32) << 8 | color[0] as i32,
+            y_green: (y << 8) | color[1] as i32,
+            z_blue: z.min(DEPTH_MAX) | (color[2] as u32) << 24,
+        }
+    }
+
+    /// x in 1/16 pixel.
+    #[inline]
+    pub fn x(&self) -> i32 {
+        self.x_outcode_red >> 14
+    }
+
+    /// y in 1/16 pixel.
+    #[inline]
+    pub fn y(&self) -> i32 {
+        self.y_green >> 8
+    }
+
+    /// Depth, 24 fraction bits.
+    #[inline]
+    pub fn z(&self) -> u32 {
+        self.z_blue & DEPTH_MAX
+    }
+
+    /// Vertex color (lit, or the object's color).
+    #[inline]
+    pub fn color(&self) -> [u8; 3] {
+        [
+            self.x_outcode_red as u8,
+            self.y_green as u8,
+            (self.z_blue >> 24) as u8,
+        ]
+    }
+
+    /// Clip planes the vertex is outside of ([`crate::geometry::outcode`]).
+    #[inline]
+    pub fn outcode(&self) -> u8 {
+        (self.x_outcode_red >> 8) as u8 & 0x3f
+    }
 }
 
 /// Per-object state of the current frame.
@@ -94,6 +146,10 @@ pub struct FrameWorkspace<'a> {
     pub row_starts: &'a mut [u32],
     /// `width` colors: the line being resolved.
     pub line: &'a mut [Rgb888],
+    /// Color planes carried from one band to the next (any number of
+    /// entries, none included: the image is the same, only the work
+    /// differs; see [`crate::color_carry`]).
+    pub carried_colors: &'a mut [CarriedColors],
 }
 
 /// Which workspace array is too small.
@@ -373,6 +429,8 @@ where
 
     transform_vertices(&ctx, &view, options, ws);
     let binned = bin_triangles(&ctx, ws, &mut stats.geometry);
+    let carry = RefCell::new(ColorCarry::new(ws.carried_colors));
+    let color_requests = Cell::new(0u32);
 
     // Bands.
     let (width, height) = (scene.width, scene.height);
@@ -415,7 +473,13 @@ where
             for i in 0..active {
                 let t = ws.triangle_order[i];
                 if is_back(ws.triangle_rows[global_index(ws.objects, t)]) == back {
-                    draw_triangle(&ctx, ws, t, y0, rows, buffer, &mut stats.geometry);
+                    let frame = FrameVertices {
+                        objects: ws.objects,
+                        vertices: ws.vertices,
+                        carry: &carry,
+                        color_requests: &color_requests,
+                    };
+                    draw_triangle(&ctx, &frame, t, y0, rows, buffer, &mut stats.geometry);
                     if rows > 1 && buffer.pool_use().ran_out {
                         break 'draw;
                     }
@@ -449,6 +513,9 @@ where
             rows = (rows * 2).min(band_height);
         }
     }
+    let carried = carry.into_inner().carried;
+    stats.geometry.color_setups = color_requests.get() - carried;
+    stats.geometry.colors_carried = carried;
     stats.buffer = buffer.take_stats();
     Ok(stats)
 }
@@ -493,13 +560,7 @@ fn transform_vertices(
                 }
                 _ => flat,
             };
-            ws.vertices[base as usize + i] = ScreenVertex {
-                x,
-                y,
-                z,
-                color,
-                outcode: code,
-            };
+            ws.vertices[base as usize + i] = ScreenVertex::new(x, y, z, color, code);
         }
         base += mesh.positions.len() as u32;
     }
@@ -538,10 +599,10 @@ fn corners(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> [Scre
 
 fn setup_vertex(v: &ScreenVertex) -> SetupVertex {
     SetupVertex {
-        x: v.x,
-        y: v.y,
-        z: v.z,
-        color: v.color.map(|c| (c as i32) << 8),
+        x: v.x(),
+        y: v.y(),
+        z: v.z(),
+        color: v.color().map(|c| (c as i32) << 8),
     }
 }
 
@@ -558,8 +619,8 @@ fn triangle_rows(
     let scene = ctx.scene;
     let (width, height) = (scene.width as i32, scene.height as i32);
     let v = corners(ctx, ws, t);
-    let and = v[0].outcode & v[1].outcode & v[2].outcode;
-    let or = v[0].outcode | v[1].outcode | v[2].outcode;
+    let and = v[0].outcode() & v[1].outcode() & v[2].outcode();
+    let or = v[0].outcode() | v[1].outcode() | v[2].outcode();
     let (o, i) = split(t);
     let object = &scene.objects[o];
     let (min_y, max_y, back) = if and != 0 {
@@ -584,10 +645,10 @@ fn triangle_rows(
     } else {
         let sv = v.map(|p| setup_vertex(&p));
         let area2 = signed_area2(&sv);
-        let min_x = v.iter().map(|p| p.x).min().unwrap_or(0) >> SUBPIXEL_BITS;
-        let max_x = v.iter().map(|p| p.x).max().unwrap_or(0) >> SUBPIXEL_BITS;
-        let min_y = v.iter().map(|p| p.y).min().unwrap_or(0) >> SUBPIXEL_BITS;
-        let max_y = v.iter().map(|p| p.y).max().unwrap_or(0) >> SUBPIXEL_BITS;
+        let min_x = v.iter().map(|p| p.x()).min().unwrap_or(0) >> SUBPIXEL_BITS;
+        let max_x = v.iter().map(|p| p.x()).max().unwrap_or(0) >> SUBPIXEL_BITS;
+        let min_y = v.iter().map(|p| p.y()).min().unwrap_or(0) >> SUBPIXEL_BITS;
+        let max_y = v.iter().map(|p| p.y()).max().unwrap_or(0) >> SUBPIXEL_BITS;
         if area2 == 0 {
             stats.triangles_degenerate += 1;
             return None;
@@ -647,10 +708,10 @@ fn bin_triangles(
             if ws.triangle_rows[g] != SKIP_ROW {
                 let t = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
                 let v = corners(ctx, ws, t);
-                let first = if v.iter().any(|p| p.outcode != 0) {
+                let first = if v.iter().any(|p| p.outcode() != 0) {
                     triangle_rows(ctx, ws, t, &mut unused).map_or(0, |(first, _, _)| first)
                 } else {
-                    let top = v.iter().map(|p| p.y).min().unwrap_or(0) >> SUBPIXEL_BITS;
+                    let top = v.iter().map(|p| p.y()).min().unwrap_or(0) >> SUBPIXEL_BITS;
                     top.max(0) as u16
                 };
                 let slot = &mut ws.row_starts[first as usize];
@@ -663,14 +724,14 @@ fn bin_triangles(
     binned
 }
 
-fn color_source(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> ColorSource {
+fn color_source(ctx: &FrameContext<'_, '_>, objects: &[ObjectFrame], t: u32) -> ColorSource {
     let (o, i) = split(t);
     let object = &ctx.scene.objects[o];
     let eye_normals = || {
         let tri = object.mesh.triangles[i];
         tri.map(|v| {
             let n = object.mesh.normals[v as usize].map(|c| c.to_bits() as i32);
-            ws.objects[o].transform.normal_to_eye(&n)
+            objects[o].transform.normal_to_eye(&n)
         })
     };
     match (ctx.shading(o), &ctx.light) {
@@ -690,7 +751,7 @@ fn color_source(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> 
             let mut sum = [0i64; 3];
             for v in tri {
                 let n = object.mesh.normals[v as usize].map(|c| c.to_bits() as i32);
-                let e = ws.objects[o].transform.normal_to_eye(&n);
+                let e = objects[o].transform.normal_to_eye(&n);
                 for k in 0..3 {
                     sum[k] += e[k] as i64;
                 }
@@ -708,9 +769,19 @@ fn color_source(ctx: &FrameContext<'_, '_>, ws: &FrameWorkspace<'_>, t: u32) -> 
     }
 }
 
+/// What drawing a triangle in a band reads of the frame: the objects'
+/// transforms and the transformed vertices; the carried colors, and a count
+/// of the triangles whose colors were asked for.
+struct FrameVertices<'f, 'c> {
+    objects: &'f [ObjectFrame],
+    vertices: &'f [ScreenVertex],
+    carry: &'f RefCell<ColorCarry<'c>>,
+    color_requests: &'f Cell<u32>,
+}
+
 fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     ctx: &FrameContext<'_, '_>,
-    ws: &FrameWorkspace<'_>,
+    frame: &FrameVertices<'_, '_>,
     t: u32,
     y0: u16,
     rows: u16,
@@ -719,11 +790,25 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
 ) {
     let (o, i) = split(t);
     let object = &ctx.scene.objects[o];
-    let v = corners(ctx, ws, t);
-    let or = v[0].outcode | v[1].outcode | v[2].outcode;
+    let v = corners_of(ctx, frame.objects, frame.vertices, t);
+    let or = v[0].outcode() | v[1].outcode() | v[2].outcode();
+    let band_end = y0 as u32 + rows as u32;
     if or == 0 {
         stats.triangle_setups += 1;
-        let lazy = || color_source(ctx, ws, t);
+        // Quadratic surfaces are worth carrying to the next band (lighting
+        // and a fit); Gouraud planes cost less than the copies.
+        let worth_carrying = ctx.shading(o) == Shading::Quadratic;
+        let lazy = |setup: &TriangleSetup| {
+            frame.color_requests.set(frame.color_requests.get() + 1);
+            let source = || color_source(ctx, frame.objects, t);
+            // Nothing else borrows the table while colors are set up.
+            if worth_carrying {
+                if let Ok(mut carry) = frame.carry.try_borrow_mut() {
+                    return carry.planes(t, setup, y0, band_end, source);
+                }
+            }
+            setup.color_planes(source())
+        };
         let params = DrawParams {
             cull_backfaces: object.cull_backfaces,
             colors: &lazy,
@@ -734,16 +819,15 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         let _ = buffer.draw_triangle(&v.map(|p| setup_vertex(&p)), &params, y0, rows);
         return;
     }
-    let colors = color_source(ctx, ws, t);
-    let eager = || colors;
+    let colors = color_source(ctx, frame.objects, t);
     let params = DrawParams {
         cull_backfaces: object.cull_backfaces,
-        colors: &eager,
+        colors: &|setup: &TriangleSetup| setup.color_planes(colors),
         width: ctx.scene.width,
         height: ctx.scene.height,
     };
     // Clipped path: transform the corners again at full range and cut the triangle.
-    let transform = &ws.objects[o].transform;
+    let transform = &frame.objects[o].transform;
     let tri = object.mesh.triangles[i];
     let normals = match colors {
         ColorSource::Quadratic(lighting) | ColorSource::Phong(lighting) => lighting.normals,
@@ -751,7 +835,10 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     };
     let clip_in: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
         clip: transform.to_clip(&object.mesh.positions[tri[k] as usize]),
-        color: color_q8(Rgb888::new(v[k].color[0], v[k].color[1], v[k].color[2])),
+        color: {
+            let [r, g, b] = v[k].color();
+            color_q8(Rgb888::new(r, g, b))
+        },
         normal: normals[k],
     });
     let poly = clip_triangle(&clip_in, or);
@@ -778,7 +865,11 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         let corner_normals = [0, k, k + 1].map(|c| poly.vertices[c].normal);
         let mut corner_colors = fan.map(|p| p.color);
         let piece_colors = clipped_piece_source(colors, &corner_normals, &mut corner_colors);
-        let piece_source = || piece_colors;
+        // Pieces are not carried: their planes are their own.
+        let piece_source = |setup: &TriangleSetup| {
+            frame.color_requests.set(frame.color_requests.get() + 1);
+            setup.color_planes(piece_colors)
+        };
         let piece = DrawParams {
             colors: &piece_source,
             ..params

@@ -149,6 +149,16 @@ pub struct QuadraticPolynomial {
 }
 
 impl QuadraticPolynomial {
+    /// The zero polynomial.
+    pub const ZERO: Self = Self {
+        a: 0,
+        b: 0,
+        c: 0,
+        d: 0,
+        e: 0,
+        f: 0,
+    };
+
     /// The polynomial evaluated directly at lattice point `(i, j)` (128-bit
     /// products; the result fits `i64` within the walked box).
     pub fn eval(&self, i: i64, j: i64) -> i64 {

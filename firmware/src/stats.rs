@@ -59,6 +59,12 @@ pub struct GeometryStats {
     pub triangles_clipped: u32,
     /// Triangle setups performed (a triangle spanning several bands is set up once per band).
     pub triangle_setups: u32,
+    /// Color setups performed (lighting and fit, or planes): once per band a
+    /// triangle leaves a visible fragment in, unless carried.
+    pub color_setups: u32,
+    /// Color setups saved: planes taken from an earlier band's
+    /// ([`crate::color_carry`]).
+    pub colors_carried: u32,
 }
 
 /// Statistics of one rendered frame.

@@ -259,9 +259,7 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
         let r1 = ((setup.y1 as u32).min(band_last) - band_y0 as u32) as u16;
         let cols = (setup.x0, setup.x1.min(self.width - 1));
         if self.reject_tiles(&setup, band_y0, cols, (r0, r1)) {
-            rasterize(&setup, band_y0, rows, self, || {
-                setup.color_planes((params.colors)())
-            });
+            rasterize(&setup, band_y0, rows, self, || (params.colors)(&setup));
         } else {
             self.stats.triangles_culled += 1;
         }
@@ -322,7 +320,7 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::setup::ColorSource;
+    use crate::setup::{ColorPlanes, ColorSource};
     use crate::zbuffer::ZBuffer;
 
     const W: u16 = 40;
@@ -337,7 +335,7 @@ mod tests {
         }
     }
 
-    fn params(colors: &dyn Fn() -> ColorSource) -> DrawParams<'_> {
+    fn params(colors: &dyn Fn(&TriangleSetup) -> ColorPlanes) -> DrawParams<'_> {
         DrawParams {
             cull_backfaces: false,
             colors,
@@ -367,7 +365,9 @@ mod tests {
             plain.begin_band(y0, rows);
             hiz.begin_band(y0, rows);
             for (t, c) in triangles {
-                let colors = || ColorSource::Constant(Rgb888::new(*c, *c, *c));
+                let colors = |s: &TriangleSetup| {
+                    s.color_planes(ColorSource::Constant(Rgb888::new(*c, *c, *c)))
+                };
                 let _ = plain.draw_triangle(t, &params(&colors), y0, rows);
                 let _ = hiz.draw_triangle(t, &params(&colors), y0, rows);
             }

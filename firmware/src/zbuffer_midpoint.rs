@@ -746,7 +746,7 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
         let band = (band_y0, rows);
         let judged = self.judge_pieces(&setup, root, band, &mut log);
         if judged.drawn {
-            let colors = setup.color_planes((params.colors)());
+            let colors = (params.colors)(&setup);
             self.draw_pieces(&setup, &colors, root, band, &mut log);
         } else if judged.culled {
             self.stats.triangles_culled += 1;
@@ -805,7 +805,7 @@ mod tests {
         }
     }
 
-    fn params(colors: &dyn Fn() -> ColorSource) -> DrawParams<'_> {
+    fn params(colors: &dyn Fn(&TriangleSetup) -> ColorPlanes) -> DrawParams<'_> {
         DrawParams {
             cull_backfaces: false,
             colors,
@@ -830,7 +830,7 @@ mod tests {
             let rows = band.min(H - y0);
             buffer.begin_band(y0, rows);
             for t in triangles {
-                let source = || colors;
+                let source = |s: &TriangleSetup| s.color_planes(colors);
                 let _ = buffer.draw_triangle(t, &params(&source), y0, rows);
             }
             for row in 0..rows {

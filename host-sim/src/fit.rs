@@ -54,6 +54,10 @@ pub struct FitArgs {
     /// Bytes kept free for the stack (the firmware build scripts' default).
     #[arg(long, default_value_t = defaults::STACK_RESERVE_BYTES)]
     pub stack: usize,
+    /// Entries of the carried-colors table in the frame workspace (color
+    /// planes kept for the next band; 160 bytes each, 0 for none).
+    #[arg(long, default_value_t = defaults::CARRIED_COLORS)]
+    pub carried: usize,
     /// Also run a turntable of this many frames on the host: worst pool peak.
     #[arg(long)]
     pub frames: Option<u32>,
@@ -106,8 +110,8 @@ impl MemoryBudget {
 }
 
 /// The frame workspace a scene needs on a device (`mcu_abuffer::memory::WorkspaceMemory`,
-/// the resolved line included).
-pub fn workspace_bytes(desc: &SceneDesc) -> usize {
+/// the resolved line included), with `carried` entries of carried colors.
+pub fn workspace_bytes(desc: &SceneDesc, carried: usize) -> usize {
     let vertices: usize = desc.objects.iter().map(|o| o.mesh.positions.len()).sum();
     let triangles: usize = desc.objects.iter().map(|o| o.mesh.triangles.len()).sum();
     bytes::workspace_memory(
@@ -116,6 +120,7 @@ pub fn workspace_bytes(desc: &SceneDesc) -> usize {
         desc.objects.len(),
         vertices,
         triangles,
+        carried,
     )
 }
 
@@ -142,7 +147,7 @@ pub fn budget(
         addresses: parts.addresses,
         pool: parts.pool + parts.padding(),
         lines: args.width as usize * 3,
-        workspace: workspace_bytes(desc),
+        workspace: workspace_bytes(desc, args.carried),
         stack: args.stack,
     }
 }

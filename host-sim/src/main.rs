@@ -192,6 +192,10 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         g.triangles_degenerate
     );
     println!(
+        "setups           {} triangle, {} color, {} colors carried from the band above",
+        g.triangle_setups, g.color_setups, g.colors_carried
+    );
+    println!(
         "fragments        {} generated, {} stored, {} hidden on arrival, {} removed as hidden",
         b.fragments_generated,
         b.fragments_stored,
@@ -234,6 +238,8 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
                 "triangles_backfacing": g.triangles_backfacing,
                 "triangles_degenerate": g.triangles_degenerate,
                 "triangle_setups": g.triangle_setups,
+                "color_setups": g.color_setups,
+                "colors_carried": g.colors_carried,
             },
             "fragments": {
                 "generated": b.fragments_generated,

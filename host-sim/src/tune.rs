@@ -136,6 +136,7 @@ pub fn search(args: &TuneArgs) -> Result<TuneResult, String> {
                             fixed: None,
                             ram: args.ram,
                             stack: args.stack,
+                            carried: defaults::CARRIED_COLORS,
                             frames: None,
                         };
                         let bytes =

@@ -3,11 +3,13 @@
 
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
+use mcu_abuffer::color_carry::CarriedColors;
 use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::fragment::PackedFragment;
 use mcu_abuffer::fragment_buffer::{
     BufferConfig, BufferError, BufferStorage, FragmentBuffer, OverflowPolicy,
 };
+use mcu_abuffer::memory::defaults;
 use mcu_abuffer::pool::PoolAddress;
 use mcu_abuffer::renderer::{
     render_frame, FrameOptions, FrameWorkspace, ObjectFrame, RenderError, ScreenVertex,
@@ -31,6 +33,8 @@ pub struct OwnedWorkspace {
     pub row_starts: Vec<u32>,
     /// One entry per image column.
     pub line: Vec<Rgb888>,
+    /// Carried color planes ([`defaults::CARRIED_COLORS`] entries).
+    pub carried_colors: Vec<CarriedColors>,
 }
 
 impl OwnedWorkspace {
@@ -44,6 +48,7 @@ impl OwnedWorkspace {
             triangle_order: vec![0; scene.triangle_count()],
             row_starts: vec![0; scene.height as usize + 1],
             line: vec![Rgb888::BLACK; scene.width as usize],
+            carried_colors: vec![CarriedColors::EMPTY; defaults::CARRIED_COLORS],
         }
     }
 
@@ -56,6 +61,7 @@ impl OwnedWorkspace {
             triangle_order: &mut self.triangle_order,
             row_starts: &mut self.row_starts,
             line: &mut self.line,
+            carried_colors: &mut self.carried_colors,
         }
     }
 }

@@ -70,6 +70,7 @@ fn board_firmware_links_within_the_f411() {
         most(|d| d.objects.len()),
         most(|d| d.objects.iter().map(|o| o.mesh.positions.len()).sum()),
         most(|d| d.objects.iter().map(|o| o.mesh.triangles.len()).sum()),
+        defaults::CARRIED_COLORS,
     );
     let r = link.renderer;
     assert!(

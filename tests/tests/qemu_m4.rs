@@ -258,7 +258,7 @@ fn the_linked_renderer_memory_is_the_counted_one() {
         config.extra as usize,
         config.pool,
     );
-    let workspace = workspace_bytes(&desc);
+    let workspace = workspace_bytes(&desc, defaults::CARRIED_COLORS);
     assert!(
         cell_holds(linked.fragments, fragments),
         "fragment memory linked {} bytes, counted {fragments}",
@@ -282,6 +282,7 @@ fn the_linked_renderer_memory_is_the_counted_one() {
         fixed: None,
         ram: 128 * 1024,
         stack: defaults::STACK_RESERVE_BYTES,
+        carried: defaults::CARRIED_COLORS,
         frames: None,
     };
     let b = budget(&args, &desc, 1, 2, config.pool);

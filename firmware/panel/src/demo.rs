@@ -176,6 +176,8 @@ pub mod defaults {
     pub const EXTRA_ADDRESSES: u8 = library::EXTRA_ADDRESSES;
     /// Shared pool slots per band (see [`BAND_ROWS`]).
     pub const POOL_SLOTS: usize = 906;
+    /// Entries of the carried-colors table (the library's default).
+    pub const CARRIED_COLORS: usize = library::CARRIED_COLORS;
     /// Turntable step per frame, degrees.
     pub const STEP_DEG: i32 = 6;
     /// Seconds each scene is shown.

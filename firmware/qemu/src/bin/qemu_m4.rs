@@ -197,7 +197,7 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
         let color_ticks = core::cell::Cell::new(0u64);
         let colors = || {
             let c0 = ticks();
-            let planes = setup.color_planes((params.colors)());
+            let planes = (params.colors)(&setup);
             color_ticks.set(color_ticks.get() + ticks() - c0);
             planes
         };
