@@ -78,13 +78,13 @@ impl<'a> ColorCarry<'a> {
     /// triangle goes on below the band). An entry taken by the band its
     /// triangle ends in is free again at once.
     #[inline]
-    pub(crate) fn planes(
+    pub(crate) fn planes<'l>(
         &mut self,
         triangle: u32,
         setup: &TriangleSetup,
         band_y0: u16,
         band_end: u32,
-        source: impl FnOnce() -> ColorSource,
+        source: impl FnOnce() -> ColorSource<'l>,
     ) -> ColorPlanes {
         // Only a triangle that began above this band can have been kept.
         if setup.y0 < band_y0 {

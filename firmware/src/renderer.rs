@@ -724,7 +724,11 @@ fn bin_triangles(
     binned
 }
 
-fn color_source(ctx: &FrameContext<'_, '_>, objects: &[ObjectFrame], t: u32) -> ColorSource {
+fn color_source<'f>(
+    ctx: &'f FrameContext<'_, '_>,
+    objects: &[ObjectFrame],
+    t: u32,
+) -> ColorSource<'f> {
     let (o, i) = split(t);
     let object = &ctx.scene.objects[o];
     let eye_normals = || {
@@ -738,12 +742,12 @@ fn color_source(ctx: &FrameContext<'_, '_>, objects: &[ObjectFrame], t: u32) -> 
         (Shading::Gouraud, Some(_)) => ColorSource::Linear,
         (Shading::Quadratic, Some(light)) => ColorSource::Quadratic(TriangleLighting {
             normals: eye_normals(),
-            light: *light,
+            light,
             base: object.color,
         }),
         (Shading::Phong, Some(light)) => ColorSource::Phong(TriangleLighting {
             normals: eye_normals(),
-            light: *light,
+            light,
             base: object.color,
         }),
         (Shading::Flat, Some(light)) => {

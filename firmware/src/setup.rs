@@ -39,17 +39,17 @@ pub struct SetupVertex {
 
 /// How fragment colors are produced across a triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ColorSource {
+pub enum ColorSource<'l> {
     /// One color for the whole triangle.
     Constant(Rgb888),
     /// Vertex colors interpolated linearly in screen space (Gouraud).
     Linear,
     /// A quadratic through the vertex colors and the lit edge midpoints, stepped
     /// by forward differences (SPEC section 8, [`crate::shading`]).
-    Quadratic(TriangleLighting),
+    Quadratic(TriangleLighting<'l>),
     /// The normal interpolated linearly in screen space and lit at every pixel
     /// (Phong; the reference).
-    Phong(TriangleLighting),
+    Phong(TriangleLighting<'l>),
 }
 
 /// One edge function, biased for the top-left rule.
@@ -386,7 +386,7 @@ impl TriangleSetup {
 
     /// The color planes of this triangle for `source` (the lighting of the
     /// midpoints and the quadratic fit happen here).
-    pub fn color_planes(&self, source: ColorSource) -> ColorPlanes {
+    pub fn color_planes<'l>(&self, source: ColorSource<'l>) -> ColorPlanes {
         let Corners {
             xs,
             ys,
@@ -400,7 +400,7 @@ impl TriangleSetup {
         let center = ((x0 << SUBPIXEL_BITS) + half, (y0 << SUBPIXEL_BITS) + half);
         let linear = || color_planes(&colors, &xs, &ys, center, area2);
         // Normals follow the vertices' order.
-        let ordered = |mut lighting: TriangleLighting| {
+        let ordered = |mut lighting: TriangleLighting<'l>| {
             if swapped {
                 lighting.normals.swap(1, 2);
             }
@@ -431,7 +431,7 @@ impl TriangleSetup {
                 match normal_planes(&xs, &ys, (x0, y0), &lighting.normals) {
                     Some(normal) => ColorPlanes::Phong(PhongPlanes {
                         normal,
-                        light: lighting.light,
+                        light: *lighting.light,
                         base: lighting.base,
                     }),
                     // Zero area once clamped to the guard band.

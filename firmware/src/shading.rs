@@ -109,12 +109,13 @@ const NORMAL_ORIGIN_LIMIT: i64 = 1 << 50;
 
 /// What quadratic and Phong shading need about a triangle besides its vertices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct TriangleLighting {
+pub struct TriangleLighting<'l> {
     /// Eye-space unit normals (Q2.14) at the three vertices, in the order of the
     /// vertices handed to setup.
     pub normals: [[i32; 3]; 3],
-    /// The light, prepared for the frame.
-    pub light: LightSetup,
+    /// The light, prepared for the frame (borrowed: a color request copies
+    /// no more than it must).
+    pub light: &'l LightSetup,
     /// The surface's color.
     pub base: Rgb888,
 }
@@ -428,12 +429,12 @@ pub fn light_midpoints(lighting: &TriangleLighting, vertex_colors: &[ColorQ8; 3]
 /// sources take them renormalized, and quadratic pieces relight their corner
 /// colors `corner_colors` (which clipping interpolated linearly). Other sources
 /// are returned unchanged.
-pub fn clipped_piece_source(
-    source: ColorSource,
+pub fn clipped_piece_source<'l>(
+    source: ColorSource<'l>,
     normals: &[[i32; 3]; 3],
     corner_colors: &mut [ColorQ8; 3],
-) -> ColorSource {
-    let renormalized = |lighting: TriangleLighting| TriangleLighting {
+) -> ColorSource<'l> {
+    let renormalized = |lighting: TriangleLighting<'l>| TriangleLighting {
         normals: normals.map(|n| normalize_unit(n.map(|c| c as i64)).unwrap_or([0; 3])),
         ..lighting
     };

@@ -91,7 +91,8 @@ fn light(u: &mut Unstructured<'_>) -> Result<LightSetup> {
     Ok(LightSetup::new(&light, &view))
 }
 
-fn lighting(u: &mut Unstructured<'_>) -> Result<TriangleLighting> {
+/// Vertex normals, a light and a base color, drawn in that order.
+fn lighting(u: &mut Unstructured<'_>) -> Result<([[i32; 3]; 3], LightSetup, Rgb888)> {
     let mut normals = [[0i32; 3]; 3];
     for n in &mut normals {
         *n = extreme_normal(u)?.map(|c| c.to_bits() as i32);
@@ -101,11 +102,9 @@ fn lighting(u: &mut Unstructured<'_>) -> Result<TriangleLighting> {
             *n = [0, 0, 1 << 14];
         }
     }
-    Ok(TriangleLighting {
-        normals,
-        light: light(u)?,
-        base: Rgb888::new(u.arbitrary()?, u.arbitrary()?, u.arbitrary()?),
-    })
+    let light = light(u)?;
+    let base = Rgb888::new(u.arbitrary()?, u.arbitrary()?, u.arbitrary()?);
+    Ok((normals, light, base))
 }
 
 /// Records the fragments of one band and checks where they land.
@@ -200,11 +199,25 @@ fn run<M: CoverageMask>(u: &mut Unstructured<'_>) -> Result<()> {
         v[2].x = (v[0].x as i64 + t * dx / 4 + u.int_in_range(-1..=1)?) as i32;
         v[2].y = (v[0].y as i64 + t * dy / 4 + u.int_in_range(-1..=1)?) as i32;
     }
-    let colors = match u.int_in_range(0u8..=3)? {
+    let kind = u.int_in_range(0u8..=3)?;
+    let light;
+    let colors = match kind {
         0 => ColorSource::Constant(Rgb888::new(u.arbitrary()?, 1, 2)),
         1 => ColorSource::Linear,
-        2 => ColorSource::Quadratic(lighting(u)?),
-        _ => ColorSource::Phong(lighting(u)?),
+        _ => {
+            let (normals, setup, base) = lighting(u)?;
+            light = setup;
+            let lit = TriangleLighting {
+                normals,
+                light: &light,
+                base,
+            };
+            if kind == 2 {
+                ColorSource::Quadratic(lit)
+            } else {
+                ColorSource::Phong(lit)
+            }
+        }
     };
     let cull = u.arbitrary()?;
     let setup = TriangleSetup::new(&v, cull, width, height);

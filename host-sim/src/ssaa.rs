@@ -291,11 +291,7 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
             .collect();
         for tri in mesh.triangles {
             let pv = tri.map(|i| vertices[i as usize]);
-            let lighting = |l: &LightSetup| TriangleLighting {
-                normals: pv.map(|p| p.normal),
-                light: *l,
-                base,
-            };
+            let normals = pv.map(|p| p.normal);
             let source = match (shading, &light) {
                 (Shading::Flat, Some(l)) => {
                     let mut sum = [0i64; 3];
@@ -311,8 +307,16 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
                     ColorSource::Constant(Rgb888::new(c[0], c[1], c[2]))
                 }
                 (Shading::Gouraud, Some(_)) => ColorSource::Linear,
-                (Shading::Quadratic, Some(l)) => ColorSource::Quadratic(lighting(l)),
-                (Shading::Phong, Some(l)) => ColorSource::Phong(lighting(l)),
+                (Shading::Quadratic, Some(light)) => ColorSource::Quadratic(TriangleLighting {
+                    normals,
+                    light,
+                    base,
+                }),
+                (Shading::Phong, Some(light)) => ColorSource::Phong(TriangleLighting {
+                    normals,
+                    light,
+                    base,
+                }),
                 _ => ColorSource::Constant(base),
             };
             let and = pv[0].outcode & pv[1].outcode & pv[2].outcode;

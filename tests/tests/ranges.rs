@@ -239,23 +239,24 @@ fn setup_and_rasterization_at_the_guard_band() {
         1 << 20,
         -(1 << 20),
     ];
-    let lighting = |rng: &mut Rng| TriangleLighting {
-        normals: [[0, 0, UNIT_ONE], [UNIT_ONE, 0, 0], [0, -UNIT_ONE, 0]].map(|n| {
+    // Normals and a light, drawn in that order.
+    let lighting = |rng: &mut Rng| {
+        let normals = [[0, 0, UNIT_ONE], [UNIT_ONE, 0, 0], [0, -UNIT_ONE, 0]].map(|n| {
             if rng.chance(0.5) {
                 n
             } else {
                 [11585, 0, -11585]
             }
-        }),
-        light: light_setup(
+        });
+        let light = light_setup(
             if rng.chance(0.5) {
                 Coord::MAX
             } else {
                 Coord::ZERO
             },
             rng.range(0, 255) as u8,
-        ),
-        base: Rgb888::new(255, 255, 255),
+        );
+        (normals, light)
     };
     let mut gouraud = 0;
     for i in 0..60_000 {
@@ -276,10 +277,19 @@ fn setup_and_rasterization_at_the_guard_band() {
             v[2].x = v[0].x + k as i32;
             v[2].y = v[0].y + s * k as i32 + 1;
         }
+        let (normals, light) = match i % 4 {
+            0 | 1 => ([[0; 3]; 3], light_setup(Coord::ZERO, 0)),
+            _ => lighting(&mut rng),
+        };
+        let lit = TriangleLighting {
+            normals,
+            light: &light,
+            base: Rgb888::new(255, 255, 255),
+        };
         let colors = match i % 4 {
             0 | 1 => ColorSource::Linear,
-            2 => ColorSource::Quadratic(lighting(&mut rng)),
-            _ => ColorSource::Phong(lighting(&mut rng)),
+            2 => ColorSource::Quadratic(lit),
+            _ => ColorSource::Phong(lit),
         };
         let (w, h) = if rng.chance(0.5) {
             (2048, 2048)
