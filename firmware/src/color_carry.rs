@@ -33,6 +33,8 @@ pub struct CarriedColors {
     polynomials: [QuadraticPolynomial; 3],
     triangle: u32,
     last_row: u16,
+    /// The polynomials walk in `i32` ([`ColorPlanes::NarrowQuadratic`]).
+    narrow: bool,
 }
 
 impl CarriedColors {
@@ -42,6 +44,7 @@ impl CarriedColors {
         polynomials: [QuadraticPolynomial::ZERO; 3],
         triangle: NO_TRIANGLE,
         last_row: 0,
+        narrow: false,
     };
 }
 
@@ -93,22 +96,43 @@ impl<'a> ColorCarry<'a> {
                 if (entry.last_row as u32) < band_end {
                     entry.triangle = NO_TRIANGLE;
                 }
-                return ColorPlanes::Quadratic(entry.polynomials);
+                return if entry.narrow {
+                    ColorPlanes::NarrowQuadratic(entry.polynomials)
+                } else {
+                    ColorPlanes::Quadratic(entry.polynomials)
+                };
             }
         }
         let planes = setup.color_planes(source());
-        if let ColorPlanes::Quadratic(polynomials) = &planes {
-            if setup.y1 as u32 >= band_end {
-                if let Some(slot) = self.slot_to_keep(band_y0) {
-                    self.entries[slot] = CarriedColors {
-                        polynomials: *polynomials,
-                        triangle,
-                        last_row: setup.y1,
-                    };
-                }
+        if setup.y1 as u32 >= band_end {
+            if let ColorPlanes::NarrowQuadratic(polynomials) = &planes {
+                self.keep(triangle, setup.y1, band_y0, polynomials, true);
+            } else if let ColorPlanes::Quadratic(polynomials) = &planes {
+                self.keep(triangle, setup.y1, band_y0, polynomials, false);
             }
         }
         planes
+    }
+
+    /// Keeps the quadratic `polynomials` of `triangle` (`narrow`: they walk
+    /// in `i32`), which goes on to row `last_row` below the band at `band_y0`.
+    #[inline]
+    fn keep(
+        &mut self,
+        triangle: u32,
+        last_row: u16,
+        band_y0: u16,
+        polynomials: &[QuadraticPolynomial; 3],
+        narrow: bool,
+    ) {
+        if let Some(slot) = self.slot_to_keep(band_y0) {
+            self.entries[slot] = CarriedColors {
+                polynomials: *polynomials,
+                triangle,
+                last_row,
+                narrow,
+            };
+        }
     }
 
     /// The entry to keep new planes in (drawing the band at `band_y0`): the

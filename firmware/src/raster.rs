@@ -343,7 +343,8 @@ where
                 insert_with!(LinearWalk::<i64>::start(&p, j))
             }
         }
-        ColorPlanes::Quadratic(p) => insert_with!(QuadraticWalk::start(&p, j)),
+        ColorPlanes::Quadratic(p) => insert_with!(QuadraticWalk::<i64>::start(&p, j)),
+        ColorPlanes::NarrowQuadratic(p) => insert_with!(QuadraticWalk::<i32>::start(&p, j)),
         ColorPlanes::Phong(p) => insert_with!(PhongWalk::start(&p, j)),
     }
 }

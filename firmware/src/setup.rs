@@ -18,7 +18,7 @@ use crate::fixed_point::{saturate, Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::GRADIENT_LIMIT;
 use crate::lighting::ColorQ8;
 use crate::shading::{
-    fit_quadratic, light_midpoints, normal_planes, samples_are_planar, PhongPlanes,
+    fit_quadratic, light_midpoints, normal_planes, samples_are_planar, walks_in_i32, PhongPlanes,
     QuadraticPolynomial, QuadraticSamples, TriangleLighting,
 };
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -105,6 +105,10 @@ pub enum ColorPlanes {
     Linear([Plane; 3]),
     /// One lattice polynomial per channel ([`crate::shading::QUADRATIC_FRACTION_BITS`]).
     Quadratic([QuadraticPolynomial; 3]),
+    /// Quadratic polynomials that [`crate::shading::walks_in_i32`]: the same
+    /// colors as [`ColorPlanes::Quadratic`] with these polynomials, stepped in
+    /// half the registers.
+    NarrowQuadratic([QuadraticPolynomial; 3]),
     /// Normal planes and the light, lit per pixel.
     Phong(PhongPlanes),
 }
@@ -421,6 +425,9 @@ impl TriangleSetup {
                     fit_quadratic(&xs, &ys, (x0, y0), size, &samples)
                 };
                 match fitted {
+                    Some(channels) if walks_in_i32(&channels, size) => {
+                        ColorPlanes::NarrowQuadratic(channels)
+                    }
                     Some(channels) => ColorPlanes::Quadratic(channels),
                     // Samples on a plane, or a sliver far thinner than its box.
                     None => ColorPlanes::Linear(linear()),

@@ -38,7 +38,12 @@
 //! ```
 //!
 //! with integer coefficients in units of `2^-28` of an 8-bit step
-//! ([`QUADRATIC_FRACTION_BITS`]).
+//! ([`QUADRATIC_FRACTION_BITS`]). On a bounding box of at most 128 x 128
+//! pixels ([`NARROW_QUADRATIC_BOX`], every triangle of a small mesh) the
+//! coefficients are rounded to multiples of `2^8` instead: the same
+//! polynomial in units of `2^-20`, which a walk in `i32` can step where its
+//! values stay in range ([`walks_in_i32`]); `i32` halves the registers of
+//! the per-pixel loop.
 //!
 //! ## Why stepping is exact
 //!
@@ -49,7 +54,9 @@
 //! after any number of steps it holds `Q(i, j)` itself: no drift, equal to direct
 //! evaluation at every pixel (a test checks every pixel of random triangles up
 //! to screen-spanning ones). Per pixel and channel: two additions, and a
-//! rounding shift and clamp for covered pixels.
+//! rounding shift and clamp for covered pixels. The `i32` walk adds the same
+//! integers modulo 2^32, so at a pixel where the polynomial is within
+//! `i32` it holds exactly that value, however its differences wrap.
 //!
 //! ## Ranges
 //!
@@ -69,7 +76,8 @@
 //! ## Accuracy (8-bit steps, inside the triangle)
 //!
 //! - coefficient rounding at 2^-28: at most `0.5 * 2^-28 * (i² + j² + ij + i + j + 1)`,
-//!   0.024 at the far corner of a 2048 x 2048 box;
+//!   0.024 at the far corner of a 2048 x 2048 box; on boxes of at most 128
+//!   pixels, rounding at 2^-20: `0.5 * 2^-20 * (...)`, again at most 0.024;
 //! - barycentric planes rounded at 2^-21 each, times the surface's slope in `s`
 //!   and `t` (below 5,100 steps even for samples alternating 0 and 255): at
 //!   most 0.015;
@@ -283,6 +291,13 @@ pub fn fit_quadratic(
         mul2_q20(s0, tv, t0, sv),
         m(s0, t0),
     ];
+    // Boxes up to NARROW_QUADRATIC_BOX get coefficients in multiples of 2^8,
+    // which an `i32` walk can hold (`walks_in_i32`).
+    let drop = if size.0 <= NARROW_QUADRATIC_BOX && size.1 <= NARROW_QUADRATIC_BOX {
+        NARROW_QUADRATIC_DROPPED_BITS
+    } else {
+        0
+    };
     // One channel at a time, straight-line: the six coefficients of channel
     // `ch` from its Q8 weights and the shared monomials.
     let mut fitted = [QuadraticPolynomial::default(); 3];
@@ -307,14 +322,19 @@ pub fn fit_quadratic(
         let times = |w: i64, m: i64| w as i32 as i64 * m;
         let quadratic = |k: usize| times(alpha, ss[k]) + times(beta, tt[k]) + times(gamma, st[k]);
         // Q8 weights times Q20 mantissas: Q28 over the normalized box; the
-        // powers of u = i / 2^p and v = j / 2^q become shifts.
+        // powers of u = i / 2^p and v = j / 2^q become shifts. On a small box
+        // the coefficients are rounded to multiples of 2^8 (see `drop`).
+        let round = |v: i64, n: u32| shift_round(v, n + drop) << drop;
         *out = QuadraticPolynomial {
-            a: shift_round(quadratic(0), 2 * p),
-            b: shift_round(quadratic(1), 2 * q),
-            c: shift_round(quadratic(2), p + q),
-            d: shift_round(quadratic(3) + delta * su + epsilon * tu, p),
-            e: shift_round(quadratic(4) + delta * sv + epsilon * tv, q),
-            f: quadratic(5) + delta * s0 + epsilon * t0 + (c0 << BARYCENTRIC_BITS),
+            a: round(quadratic(0), 2 * p),
+            b: round(quadratic(1), 2 * q),
+            c: round(quadratic(2), p + q),
+            d: round(quadratic(3) + delta * su + epsilon * tu, p),
+            e: round(quadratic(4) + delta * sv + epsilon * tv, q),
+            f: round(
+                quadratic(5) + delta * s0 + epsilon * t0 + (c0 << BARYCENTRIC_BITS),
+                0,
+            ),
         };
     }
     Some(fitted)
@@ -685,73 +705,175 @@ fn channel_quadratic(v: i64) -> u8 {
     }
 }
 
+/// Low bits that are zero in every coefficient of a polynomial fitted on a
+/// small box ([`NARROW_QUADRATIC_BOX`]): such polynomials are exact in
+/// [`NARROW_QUADRATIC_FRACTION_BITS`] and may walk in `i32`.
+pub const NARROW_QUADRATIC_DROPPED_BITS: u32 = 8;
+
+/// Fraction bits of the `i32` quadratic walk ([`QuadraticWalk<i32>`]).
+pub const NARROW_QUADRATIC_FRACTION_BITS: u32 =
+    QUADRATIC_FRACTION_BITS - NARROW_QUADRATIC_DROPPED_BITS;
+
+/// Widest and tallest bounding box (pixels) whose fit is rounded to
+/// [`NARROW_QUADRATIC_FRACTION_BITS`]: that rounding adds at most
+/// `0.5 * 2^-20 * (3 * 128² + 2 * 128 + 1)`, 0.024 of an 8-bit step.
+pub const NARROW_QUADRATIC_BOX: i64 = 128;
+
+/// The number types a [`QuadraticWalk`] steps: `i64` any fitted
+/// polynomial, `i32` one that [`walks_in_i32`] (half the registers).
+pub trait QuadraticValue: PlaneValue {
+    /// Low bits of the fitted coefficients ([`QUADRATIC_FRACTION_BITS`])
+    /// that this type leaves out (all zero where it is used).
+    const DROPPED_BITS: u32;
+    /// The 8-bit channel of a value, rounded and clamped.
+    fn channel(self) -> u8;
+    /// `self + other`, wrapping.
+    fn plus(self, other: Self) -> Self;
+    /// `self * other`, wrapping.
+    fn times(self, other: Self) -> Self;
+}
+
+impl QuadraticValue for i64 {
+    const DROPPED_BITS: u32 = 0;
+    #[inline]
+    fn channel(self) -> u8 {
+        channel_quadratic(self)
+    }
+    #[inline]
+    fn plus(self, other: Self) -> Self {
+        self.wrapping_add(other)
+    }
+    #[inline]
+    fn times(self, other: Self) -> Self {
+        self.wrapping_mul(other)
+    }
+}
+
+impl QuadraticValue for i32 {
+    const DROPPED_BITS: u32 = QUADRATIC_FRACTION_BITS - NARROW_QUADRATIC_FRACTION_BITS;
+    #[inline(always)]
+    fn channel(self) -> u8 {
+        // A shift and a clamp: one saturating instruction on Cortex-M.
+        const HALF: i32 = 1 << (NARROW_QUADRATIC_FRACTION_BITS - 1);
+        ((self + HALF) >> NARROW_QUADRATIC_FRACTION_BITS).clamp(0, 255) as u8
+    }
+    #[inline]
+    fn plus(self, other: Self) -> Self {
+        self.wrapping_add(other)
+    }
+    #[inline]
+    fn times(self, other: Self) -> Self {
+        self.wrapping_mul(other)
+    }
+}
+
 /// Quadratic colors by forward differences: per pixel and channel the value
 /// grows by its `x` difference and the difference by `2a`; per row the row
 /// start grows by its `y` difference, that by `2b`, and the row's first `x`
-/// difference by `c`.
+/// difference by `c`. In `i64` (any fitted polynomial) or, where
+/// [`walks_in_i32`], in `i32`.
 #[derive(Clone, Copy, Debug)]
-pub struct QuadraticWalk {
-    value: [i64; 3],
-    first_x: [i64; 3],
-    first_y: [i64; 3],
-    second_x: [i64; 3],
-    second_y: [i64; 3],
-    cross: [i64; 3],
+pub struct QuadraticWalk<V: QuadraticValue = i64> {
+    value: [V; 3],
+    first_x: [V; 3],
+    first_y: [V; 3],
+    second_x: [V; 3],
+    second_y: [V; 3],
+    cross: [V; 3],
 }
 
 /// The state of a [`QuadraticWalk`] within a row: value and `x` difference per channel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct QuadraticRow {
+pub struct QuadraticRow<V = i64> {
     /// `Q(i, j)` per channel.
-    pub value: [i64; 3],
+    pub value: [V; 3],
     /// `Q(i + 1, j) - Q(i, j)` per channel.
-    pub first_x: [i64; 3],
+    pub first_x: [V; 3],
 }
 
-impl QuadraticWalk {
+/// Whether polynomials `p` over a bounding box of `size` pixels (columns,
+/// rows) can be walked in `i32`: the box is at most
+/// [`NARROW_QUADRATIC_BOX`] on each side, every coefficient is a multiple
+/// of `2^8` (as the fit leaves them on such a box), and every value on the
+/// box, in [`NARROW_QUADRATIC_FRACTION_BITS`], is below `2^31 - 2^20` in
+/// magnitude (bounded by the sum over the coefficients of `|k| m`, `m` the
+/// largest value of `k`'s monomial on the box). The walk's arithmetic wraps:
+/// it is exact modulo 2^32, so each value it reaches at a pixel is the
+/// polynomial's, whatever its differences and products do on the way.
+pub fn walks_in_i32(p: &[QuadraticPolynomial; 3], size: (i64, i64)) -> bool {
+    let (columns, rows) = size;
+    if !(1..=NARROW_QUADRATIC_BOX).contains(&columns) || !(1..=NARROW_QUADRATIC_BOX).contains(&rows)
+    {
+        return false;
+    }
+    let (w, h) = (columns as u64, rows as u64);
+    const DROPPED: i64 = (1 << NARROW_QUADRATIC_DROPPED_BITS) - 1;
+    p.iter().all(|p| {
+        let ks = [p.a, p.b, p.c, p.d, p.e, p.f];
+        // Each |k| below 2^40 first, so the sum below cannot overflow.
+        let low_bits = ks.iter().fold(0, |or, k| or | k);
+        let high = ks.iter().fold(0, |or, k| or | k.unsigned_abs());
+        if low_bits & DROPPED != 0 || high >= 1 << 40 {
+            return false;
+        }
+        let monomials = [w * w, h * h, w * h, w, h, 1];
+        let bound: u64 = ks
+            .iter()
+            .zip(monomials)
+            .map(|(k, m)| k.unsigned_abs() * m)
+            .sum();
+        bound < ((1 << 31) - (1 << 20)) << NARROW_QUADRATIC_DROPPED_BITS
+    })
+}
+
+impl<V: QuadraticValue> QuadraticWalk<V> {
     /// Starts at row `j` of the bounding box by direct evaluation (once per
-    /// band; additions from there on).
+    /// band; additions from there on); for `V = i32` the polynomials must
+    /// pass [`walks_in_i32`].
     pub fn start(p: &[QuadraticPolynomial; 3], j: i64) -> Self {
         let mut walk = Self {
-            value: [0; 3],
-            first_x: [0; 3],
-            first_y: [0; 3],
-            second_x: [0; 3],
-            second_y: [0; 3],
-            cross: [0; 3],
+            value: [V::from_i64(0); 3],
+            first_x: [V::from_i64(0); 3],
+            first_y: [V::from_i64(0); 3],
+            second_x: [V::from_i64(0); 3],
+            second_y: [V::from_i64(0); 3],
+            cross: [V::from_i64(0); 3],
         };
         // Each result fits `i64` (see the module's ranges), so wrapping
         // arithmetic gives it exactly even where a partial product does not.
         for (c, p) in p.iter().enumerate() {
-            walk.value[c] =
+            // Exact: the dropped bits of every coefficient are zero.
+            let narrow = |v: i64| V::from_i64(v >> V::DROPPED_BITS);
+            walk.value[c] = narrow(
                 p.b.wrapping_mul(j)
                     .wrapping_add(p.e)
                     .wrapping_mul(j)
-                    .wrapping_add(p.f);
-            walk.first_x[c] = p.a.wrapping_add(p.c.wrapping_mul(j)).wrapping_add(p.d);
-            walk.first_y[c] = p.b.wrapping_mul(2 * j + 1).wrapping_add(p.e);
-            walk.second_x[c] = 2 * p.a;
-            walk.second_y[c] = 2 * p.b;
-            walk.cross[c] = p.c;
+                    .wrapping_add(p.f),
+            );
+            walk.first_x[c] = narrow(p.a.wrapping_add(p.c.wrapping_mul(j)).wrapping_add(p.d));
+            walk.first_y[c] = narrow(p.b.wrapping_mul(2 * j + 1).wrapping_add(p.e));
+            walk.second_x[c] = narrow(2 * p.a);
+            walk.second_y[c] = narrow(2 * p.b);
+            walk.cross[c] = narrow(p.c);
         }
         walk
     }
 
     /// The 8-bit color of a row state.
     #[inline]
-    pub fn rgb(row: &QuadraticRow) -> Rgb888 {
+    pub fn rgb(row: &QuadraticRow<V>) -> Rgb888 {
         Rgb888::new(
-            channel_quadratic(row.value[0]),
-            channel_quadratic(row.value[1]),
-            channel_quadratic(row.value[2]),
+            row.value[0].channel(),
+            row.value[1].channel(),
+            row.value[2].channel(),
         )
     }
 }
 
-impl ColorWalk for QuadraticWalk {
-    type Row = QuadraticRow;
+impl<V: QuadraticValue> ColorWalk for QuadraticWalk<V> {
+    type Row = QuadraticRow<V>;
     #[inline]
-    fn row(&self) -> QuadraticRow {
+    fn row(&self) -> QuadraticRow<V> {
         QuadraticRow {
             value: self.value,
             first_x: self.first_x,
@@ -760,31 +882,34 @@ impl ColorWalk for QuadraticWalk {
     #[inline]
     fn next_row(&mut self) {
         for c in 0..3 {
-            self.value[c] += self.first_y[c];
-            self.first_y[c] += self.second_y[c];
-            self.first_x[c] += self.cross[c];
+            self.value[c] = self.value[c].plus(self.first_y[c]);
+            self.first_y[c] = self.first_y[c].plus(self.second_y[c]);
+            self.first_x[c] = self.first_x[c].plus(self.cross[c]);
         }
     }
     #[inline]
-    fn color(&self, row: &QuadraticRow) -> Rgb888 {
+    fn color(&self, row: &QuadraticRow<V>) -> Rgb888 {
         Self::rgb(row)
     }
     #[inline]
-    fn step(&self, row: &mut QuadraticRow) {
+    fn step(&self, row: &mut QuadraticRow<V>) {
         for c in 0..3 {
-            row.value[c] += row.first_x[c];
-            row.first_x[c] += self.second_x[c];
+            row.value[c] = row.value[c].plus(row.first_x[c]);
+            row.first_x[c] = row.first_x[c].plus(self.second_x[c]);
         }
     }
     #[inline]
-    fn skip(&self, row: &mut QuadraticRow, n: u16) {
+    fn skip(&self, row: &mut QuadraticRow<V>, n: u16) {
         // n steps at once: the value grows by n D + s n (n - 1) / 2, the
         // difference D by n s (s the second difference); the same integers.
-        let n = n as i64;
-        let triangle = n * (n - 1) / 2;
+        let triangle = V::from_i64(n as i64 * (n as i64 - 1) / 2);
+        let n = V::from_count(n);
         for c in 0..3 {
-            row.value[c] += n * row.first_x[c] + triangle * self.second_x[c];
-            row.first_x[c] += n * self.second_x[c];
+            let grown = n
+                .times(row.first_x[c])
+                .plus(triangle.times(self.second_x[c]));
+            row.value[c] = row.value[c].plus(grown);
+            row.first_x[c] = row.first_x[c].plus(n.times(self.second_x[c]));
         }
     }
 }
@@ -956,12 +1081,13 @@ mod tests {
     fn stepping_equals_direct_evaluation_exactly() {
         let mut rng = Rng(0x0fed_cba9_8765_4321);
         let mut checked_pixels = 0u64;
-        let (mut boxes, mut fitted) = (0, 0);
+        let (mut boxes, mut fitted, mut narrow_boxes) = (0, 0, 0u32);
         for round in 0..1_500 {
-            let (w, h) = if round % 3 == 0 {
-                (2048, 2048)
-            } else {
-                (320, 240)
+            // Every third screen is small: boxes the `i32` walk may take.
+            let (w, h) = match round % 3 {
+                0 => (2048, 2048),
+                1 => (320, 240),
+                _ => (100, 100),
             };
             let (xs, ys) = random_triangle(&mut rng, w, h);
             let Some((origin, size)) = bounding_box(&xs, &ys, w, h) else {
@@ -980,23 +1106,42 @@ mod tests {
                 0
             };
             let last = (first + 40).min(size.1);
-            let mut walk = QuadraticWalk::start(&poly, first);
+            let mut walk = QuadraticWalk::<i64>::start(&poly, first);
+            // Where the fit allows it, the `i32` walk alongside: at every pixel
+            // of the box, the same polynomial without its zero low bits.
+            let narrow = walks_in_i32(&poly, size);
+            narrow_boxes += narrow as u32;
+            let mut walk32 = QuadraticWalk::<i32>::start(&poly, first);
             for j in first..=last {
                 let mut row = walk.row();
+                let mut row32 = walk32.row();
                 for i in 0..=size.0 {
                     for ch in 0..3 {
-                        assert_eq!(row.value[ch], poly[ch].eval(i, j), "({i}, {j})");
+                        let exact = poly[ch].eval(i, j);
+                        assert_eq!(row.value[ch], exact, "({i}, {j})");
                         assert_eq!(
                             row.first_x[ch],
                             poly[ch].eval(i + 1, j) - poly[ch].eval(i, j)
                         );
+                        if narrow && i < size.0 && j < size.1 {
+                            assert_eq!(exact & 0xff, 0);
+                            assert_eq!(row32.value[ch] as i64, exact >> 8, "({i}, {j})");
+                        }
+                    }
+                    if narrow && i < size.0 && j < size.1 {
+                        let walks = QuadraticWalk::<i64>::rgb(&row);
+                        assert_eq!(QuadraticWalk::<i32>::rgb(&row32), walks);
                     }
                     walk.step(&mut row);
+                    walk32.step(&mut row32);
                     checked_pixels += 1;
                 }
                 walk.next_row();
+                walk32.next_row();
             }
         }
+        // Random samples curve steeply, so a third of the small boxes pass.
+        assert!(narrow_boxes > 100, "{narrow_boxes} boxes walked in i32");
         // Random triangles are rarely slivers: nearly all take the quadratic.
         assert!(
             fitted * 100 >= boxes * 99,
@@ -1017,7 +1162,7 @@ mod tests {
         for _ in 0..3 {
             let samples = random_samples(&mut rng);
             let poly = fit_quadratic(&xs, &ys, origin, size, &samples).expect("fits");
-            let mut walk = QuadraticWalk::start(&poly, 0);
+            let mut walk = QuadraticWalk::<i64>::start(&poly, 0);
             for j in 0..=size.1 {
                 let mut row = walk.row();
                 for i in 0..=size.0 {

@@ -673,6 +673,11 @@ fn piece_setup(
         ColorPlanes::Constant(c) => ColorPlanes::Constant(*c),
         ColorPlanes::Linear(p) => ColorPlanes::Linear(p.map(|p| shift_plane(&p, di, dj))),
         ColorPlanes::Quadratic(q) => ColorPlanes::Quadratic(q.map(|q| shift_quadratic(&q, di, dj))),
+        // The piece's box lies in the triangle's: the same values, still
+        // within the bound of the `i32` walk.
+        ColorPlanes::NarrowQuadratic(q) => {
+            ColorPlanes::NarrowQuadratic(q.map(|q| shift_quadratic(&q, di, dj)))
+        }
         ColorPlanes::Phong(p) => ColorPlanes::Phong(PhongPlanes {
             normal: p.normal.map(|n| shift_plane(&n, di, dj)),
             ..*p
@@ -992,7 +997,7 @@ mod tests {
             let (di, dj) = (rng.below(40) as i64, rng.below(30) as i64);
             let (sq, sp) = (shift_quadratic(&q, di, dj), shift_plane(&p, di, dj));
             // Walk a few rows and columns of the shifted box with additions.
-            let mut walk = QuadraticWalk::start(&[sq; 3], 0);
+            let mut walk = QuadraticWalk::<i64>::start(&[sq; 3], 0);
             for j in 0..5 {
                 let mut row = walk.row();
                 for i in 0..7 {

@@ -441,7 +441,9 @@ impl ColorSampler {
         match colors {
             ColorPlanes::Constant(c) => [c.r(), c.g(), c.b()],
             ColorPlanes::Linear(p) => std::array::from_fn(|ch| self.linear(&p[ch], i2, j2)),
-            ColorPlanes::Quadratic(q) => std::array::from_fn(|ch| self.quadratic(&q[ch], i2, j2)),
+            ColorPlanes::Quadratic(q) | ColorPlanes::NarrowQuadratic(q) => {
+                std::array::from_fn(|ch| self.quadratic(&q[ch], i2, j2))
+            }
             ColorPlanes::Phong(p) => {
                 // The normal at the sample (floor, exact at pixel centers), lit.
                 let n: [i64; 3] = std::array::from_fn(|k| {
