@@ -22,16 +22,25 @@
 use crate::setup::{ColorPlanes, ColorSource, TriangleSetup};
 use crate::shading::QuadraticPolynomial;
 
-/// No triangle: triangle keys are `object << 24 | triangle` with at most 255
-/// objects, so they never reach this.
-const NO_TRIANGLE: u32 = u32::MAX;
+/// The key of an entry holding no triangle. Zero, so that a table of empty
+/// entries is all zeros and a `static` one takes no flash for its image.
+const NO_TRIANGLE: u32 = 0;
+
+/// The key an entry of `triangle` holds: triangle numbers are
+/// `object << 24 | triangle` with at most 255 objects, so one more never
+/// wraps and never equals [`NO_TRIANGLE`].
+#[inline]
+fn key_of(triangle: u32) -> u32 {
+    triangle + 1
+}
 
 /// One entry of the carried-colors table: a triangle's quadratic color
 /// surfaces and the last image row it covers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CarriedColors {
     polynomials: [QuadraticPolynomial; 3],
-    triangle: u32,
+    /// [`key_of`] the triangle, or [`NO_TRIANGLE`].
+    key: u32,
     last_row: u16,
     /// The polynomials walk in `i32` ([`ColorPlanes::NarrowQuadratic`]).
     narrow: bool,
@@ -42,7 +51,7 @@ impl CarriedColors {
     /// (`static` arrays included).
     pub const EMPTY: Self = Self {
         polynomials: [QuadraticPolynomial::ZERO; 3],
-        triangle: NO_TRIANGLE,
+        key: NO_TRIANGLE,
         last_row: 0,
         narrow: false,
     };
@@ -91,10 +100,11 @@ impl<'a> ColorCarry<'a> {
     ) -> ColorPlanes {
         // Only a triangle that began above this band can have been kept.
         if setup.y0 < band_y0 {
-            if let Some(entry) = self.entries.iter_mut().find(|e| e.triangle == triangle) {
+            let key = key_of(triangle);
+            if let Some(entry) = self.entries.iter_mut().find(|e| e.key == key) {
                 self.carried += 1;
                 if (entry.last_row as u32) < band_end {
-                    entry.triangle = NO_TRIANGLE;
+                    entry.key = NO_TRIANGLE;
                 }
                 return if entry.narrow {
                     ColorPlanes::NarrowQuadratic(entry.polynomials)
@@ -128,7 +138,7 @@ impl<'a> ColorCarry<'a> {
         if let Some(slot) = self.slot_to_keep(band_y0) {
             self.entries[slot] = CarriedColors {
                 polynomials: *polynomials,
-                triangle,
+                key: key_of(triangle),
                 last_row,
                 narrow,
             };
@@ -144,7 +154,7 @@ impl<'a> ColorCarry<'a> {
         let mut slot = self.next;
         for _ in 0..n {
             let e = self.entries.get(slot)?;
-            if e.triangle == NO_TRIANGLE || e.last_row < band_y0 {
+            if e.key == NO_TRIANGLE || e.last_row < band_y0 {
                 break;
             }
             slot = if slot + 1 == n { 0 } else { slot + 1 };

@@ -42,6 +42,14 @@ fn board_firmware_links_within_the_f411() {
         "statics {statics} leave less than 10 KiB of stack"
     );
     assert!(link.stack >= STACK_RESERVE);
+    // The renderer's memory starts as zeros (`.bss`): a non-zero initial value
+    // in one of its types would move the whole static to `.data`, whose image
+    // takes as much flash again.
+    assert!(
+        link.data < 4096,
+        ".data {} bytes: a renderer static has a non-zero initial value",
+        link.data
+    );
 
     // The renderer's statics hold what the library's byte counts (and so the
     // build script's RAM check) say: the board's default sizes, the largest of
@@ -73,6 +81,7 @@ fn board_firmware_links_within_the_f411() {
         defaults::CARRIED_COLORS,
     );
     let r = link.renderer;
+    println!("renderer statics: fragment memory {fragments}, workspace {workspace} bytes");
     assert!(
         host_sim::fit::cell_holds(r.fragments, fragments),
         "fragment memory linked {} bytes, counted {fragments}",
