@@ -146,8 +146,14 @@ fn main() {
     let pixels = width * band;
     // The library's own byte counts of the statics in src/main.rs.
     let buffer_bytes = bytes::fragment_memory(MASK_BYTES, width, band, main_slots, extra, pool);
-    let workspace_bytes =
-        bytes::workspace_memory(width, height, max_objects, max_vertices, max_triangles, defaults::CARRIED_COLORS);
+    let workspace_bytes = bytes::workspace_memory(
+        width,
+        height,
+        max_objects,
+        max_vertices,
+        max_triangles,
+        defaults::CARRIED_COLORS,
+    );
     let band_bytes = 2 * pixels * 2;
     let needed = buffer_bytes + workspace_bytes + band_bytes + OTHER_STATICS + stack_reserve;
     if needed > RAM_BYTES {

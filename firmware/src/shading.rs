@@ -733,20 +733,28 @@ pub trait QuadraticValue: PlaneValue {
     fn times(self, other: Self) -> Self;
 }
 
+/// [`QuadraticValue`]'s wrapping addition and multiplication, the same
+/// for every integer type.
+macro_rules! wrapping_arithmetic {
+    () => {
+        #[inline]
+        fn plus(self, other: Self) -> Self {
+            self.wrapping_add(other)
+        }
+        #[inline]
+        fn times(self, other: Self) -> Self {
+            self.wrapping_mul(other)
+        }
+    };
+}
+
 impl QuadraticValue for i64 {
     const DROPPED_BITS: u32 = 0;
     #[inline]
     fn channel(self) -> u8 {
         channel_quadratic(self)
     }
-    #[inline]
-    fn plus(self, other: Self) -> Self {
-        self.wrapping_add(other)
-    }
-    #[inline]
-    fn times(self, other: Self) -> Self {
-        self.wrapping_mul(other)
-    }
+    wrapping_arithmetic!();
 }
 
 impl QuadraticValue for i32 {
@@ -757,14 +765,7 @@ impl QuadraticValue for i32 {
         const HALF: i32 = 1 << (NARROW_QUADRATIC_FRACTION_BITS - 1);
         ((self + HALF) >> NARROW_QUADRATIC_FRACTION_BITS).clamp(0, 255) as u8
     }
-    #[inline]
-    fn plus(self, other: Self) -> Self {
-        self.wrapping_add(other)
-    }
-    #[inline]
-    fn times(self, other: Self) -> Self {
-        self.wrapping_mul(other)
-    }
+    wrapping_arithmetic!();
 }
 
 /// Quadratic colors by forward differences: per pixel and channel the value

@@ -224,7 +224,10 @@ fn run<M: CoverageMask>(u: &mut Unstructured<'_>) -> Result<()> {
     if std::env::var_os("FUZZ_PRINT").is_some() {
         eprintln!(
             "setup: {:?}",
-            setup.as_ref().map(|s| s.color_planes(colors)).map_err(|e| *e)
+            setup
+                .as_ref()
+                .map(|s| s.color_planes(colors))
+                .map_err(|e| *e)
         );
     }
     let Ok(setup) = setup else {

@@ -100,7 +100,8 @@ type Depths = ZBufferMemory<{ if_used(ZBUF, WIDTH) }, { if_used(ZBUF, BAND) }>;
 
 // The build script's memory check counted these very types.
 const _: () = assert!(
-    WORKSPACE_BYTES == WorkspaceMemory::<WIDTH, HEIGHT, OBJECTS_LEN, VERTICES, TRIANGLES, CARRIED>::BYTES
+    WORKSPACE_BYTES
+        == WorkspaceMemory::<WIDTH, HEIGHT, OBJECTS_LEN, VERTICES, TRIANGLES, CARRIED>::BYTES
 );
 const _: () = assert!(
     BUFFER_BYTES
