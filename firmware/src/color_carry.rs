@@ -2,7 +2,7 @@
 //!
 //! A triangle that reaches below its band is set up again in the next band
 //! (its edges, box and depth are cheap), and so were its colors: the
-//! lighting of its edge midpoints and the quadratic fit, about 2,600
+//! lighting of its edge midpoints and the quadratic fit, about 3,000
 //! instructions on the Cortex-M4 for a quadratic triangle. The planes
 //! depend only on the triangle (its corners, its bounding box on screen and
 //! its lighting), not on the band, so the frame driver keeps those of
