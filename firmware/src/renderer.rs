@@ -431,6 +431,12 @@ where
     let binned = bin_triangles(&ctx, ws, &mut stats.geometry);
     let carry = RefCell::new(ColorCarry::new(ws.carried_colors));
     let color_requests = Cell::new(0u32);
+    let frame = FrameVertices {
+        objects: ws.objects,
+        vertices: ws.vertices,
+        carry: &carry,
+        color_requests: &color_requests,
+    };
 
     // Bands.
     let (width, height) = (scene.width, scene.height);
@@ -473,12 +479,6 @@ where
             for i in 0..active {
                 let t = ws.triangle_order[i];
                 if is_back(ws.triangle_rows[global_index(ws.objects, t)]) == back {
-                    let frame = FrameVertices {
-                        objects: ws.objects,
-                        vertices: ws.vertices,
-                        carry: &carry,
-                        color_requests: &color_requests,
-                    };
                     draw_triangle(&ctx, &frame, t, y0, rows, buffer, &mut stats.geometry);
                     if rows > 1 && buffer.pool_use().ran_out {
                         break 'draw;

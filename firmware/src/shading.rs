@@ -293,7 +293,7 @@ pub fn fit_quadratic(
     ];
     // Boxes up to NARROW_QUADRATIC_BOX get coefficients in multiples of 2^8,
     // which an `i32` walk can hold (`walks_in_i32`).
-    let drop = if size.0 <= NARROW_QUADRATIC_BOX && size.1 <= NARROW_QUADRATIC_BOX {
+    let drop = if is_narrow_box(size) {
         NARROW_QUADRATIC_DROPPED_BITS
     } else {
         0
@@ -615,9 +615,16 @@ impl PlaneValue for i32 {
     }
     #[inline(always)]
     fn channel16(self) -> u8 {
-        // A shift and a clamp: one saturating instruction on Cortex-M.
-        ((self + (1 << 15)) >> 16).clamp(0, 255) as u8
+        channel_i32(self, 16)
     }
+}
+
+/// The 8-bit channel of an `i32` value with `bits` fraction bits, rounded
+/// and clamped: a shift and a clamp, one saturating instruction on Cortex-M.
+/// The value must be below `2^31 - 2^(bits - 1)`.
+#[inline(always)]
+fn channel_i32(v: i32, bits: u32) -> u8 {
+    ((v + (1 << (bits - 1))) >> bits).clamp(0, 255) as u8
 }
 
 /// Linear color planes (Gouraud): one addition per channel and pixel, in
@@ -719,6 +726,13 @@ pub const NARROW_QUADRATIC_FRACTION_BITS: u32 =
 /// `0.5 * 2^-20 * (3 * 128² + 2 * 128 + 1)`, 0.024 of an 8-bit step.
 pub const NARROW_QUADRATIC_BOX: i64 = 128;
 
+/// Whether a bounding box of `size` pixels (columns, rows) is small enough
+/// for the fit to round to [`NARROW_QUADRATIC_FRACTION_BITS`].
+#[inline]
+fn is_narrow_box(size: (i64, i64)) -> bool {
+    size.0 <= NARROW_QUADRATIC_BOX && size.1 <= NARROW_QUADRATIC_BOX
+}
+
 /// The number types a [`QuadraticWalk`] steps: `i64` any fitted
 /// polynomial, `i32` one that [`walks_in_i32`] (half the registers).
 pub trait QuadraticValue: PlaneValue {
@@ -758,12 +772,10 @@ impl QuadraticValue for i64 {
 }
 
 impl QuadraticValue for i32 {
-    const DROPPED_BITS: u32 = QUADRATIC_FRACTION_BITS - NARROW_QUADRATIC_FRACTION_BITS;
+    const DROPPED_BITS: u32 = NARROW_QUADRATIC_DROPPED_BITS;
     #[inline(always)]
     fn channel(self) -> u8 {
-        // A shift and a clamp: one saturating instruction on Cortex-M.
-        const HALF: i32 = 1 << (NARROW_QUADRATIC_FRACTION_BITS - 1);
-        ((self + HALF) >> NARROW_QUADRATIC_FRACTION_BITS).clamp(0, 255) as u8
+        channel_i32(self, NARROW_QUADRATIC_FRACTION_BITS)
     }
     wrapping_arithmetic!();
 }
@@ -802,12 +814,10 @@ pub struct QuadraticRow<V = i64> {
 /// it is exact modulo 2^32, so each value it reaches at a pixel is the
 /// polynomial's, whatever its differences and products do on the way.
 pub fn walks_in_i32(p: &[QuadraticPolynomial; 3], size: (i64, i64)) -> bool {
-    let (columns, rows) = size;
-    if !(1..=NARROW_QUADRATIC_BOX).contains(&columns) || !(1..=NARROW_QUADRATIC_BOX).contains(&rows)
-    {
+    if !is_narrow_box(size) || size.0 < 1 || size.1 < 1 {
         return false;
     }
-    let (w, h) = (columns as u64, rows as u64);
+    let (w, h) = (size.0 as u64, size.1 as u64);
     const DROPPED: i64 = (1 << NARROW_QUADRATIC_DROPPED_BITS) - 1;
     p.iter().all(|p| {
         let ks = [p.a, p.b, p.c, p.d, p.e, p.f];
