@@ -48,6 +48,20 @@ pub trait BandBuffer<M: CoverageMask> {
         let _ = (x, row, depth);
         false
     }
+    /// How many pixels of band row `row`, from column `x0` on and at most
+    /// through `x1`, [`BandBuffer::hides`] in a run: `x1 - x0 + 1` when it
+    /// hides them all, otherwise the count before the first it does not
+    /// hide. The default asks [`BandBuffer::hides`] pixel by pixel; a buffer
+    /// that can scan a row faster gives the same answer its own way. Asking
+    /// changes nothing in the buffer.
+    #[inline]
+    fn hidden_run(&mut self, row: u16, x0: u16, x1: u16, depth: i64) -> u32 {
+        let mut x = x0 as u32;
+        while x <= x1 as u32 && self.hides(x as u16, row, depth) {
+            x += 1;
+        }
+        x - x0 as u32
+    }
     /// Whether, in every pixel of columns `x0..=x1` in every row of the band,
     /// the buffer holds something strictly nearer at every sample than
     /// `depth` (the question of [`BandBuffer::hides`] for all those pixels at

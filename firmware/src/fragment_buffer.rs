@@ -430,7 +430,7 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
                 kept += 1;
             }
         }
-        self.stats.fragments_removed_hidden += (n - kept) as u64;
+        self.stats.fragments_removed_hidden += (n - kept) as u32;
         self.release_positions(p, kept, n);
         kept
     }
@@ -593,6 +593,22 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         self.stats.fragments_stored += 1;
     }
 
+    /// [`BandBuffer::hides`] for pixel `p`.
+    #[inline(always)]
+    fn pixel_hides(&mut self, p: usize, depth: i64) -> bool {
+        let n = self.counts[p] as usize;
+        if n == 0 {
+            return false;
+        }
+        let mut covered = M::EMPTY;
+        let farther = self.any_stored(p, n, |f| {
+            covered = covered | f.mask();
+            // The farthest sample of the stored fragment's plane (below 2^29).
+            f.farthest_sample_depth() as i64 >= depth
+        });
+        !farther && covered == M::FULL
+    }
+
     /// [`BandBuffer::survives`] for pixel `p`, which holds fragments.
     #[inline(never)]
     fn survives_in_list(&mut self, p: usize, fragment: &Fragment<M>) -> bool {
@@ -714,17 +730,20 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     #[inline]
     fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         let p = self.pixel_index(x, row);
-        let n = self.counts[p] as usize;
-        if n == 0 {
-            return false;
+        self.pixel_hides(p, depth)
+    }
+
+    fn hidden_run(&mut self, row: u16, x0: u16, x1: u16, depth: i64) -> u32 {
+        let last = (x1 as usize).min(self.config.width as usize - 1);
+        let (first, end) = (
+            self.pixel_index(x0, row),
+            self.pixel_index(0, row) + last + 1,
+        );
+        let mut p = first;
+        while p < end && self.pixel_hides(p, depth) {
+            p += 1;
         }
-        let mut covered = M::EMPTY;
-        let farther = self.any_stored(p, n, |f| {
-            covered = covered | f.mask();
-            // The farthest sample of the stored fragment's plane (below 2^29).
-            f.farthest_sample_depth() as i64 >= depth
-        });
-        !farther && covered == M::FULL
+        (p - first) as u32
     }
 
     fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
@@ -743,8 +762,8 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     }
 
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
-        self.stats.culling_depth_tests += pixels as u64;
-        self.stats.triangles_culled += hidden as u64;
+        self.stats.culling_depth_tests += pixels as u32;
+        self.stats.triangles_culled += hidden as u32;
     }
 
     // Inlined into the probe: an empty pixel keeps every fragment; pixels

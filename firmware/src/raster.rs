@@ -226,15 +226,16 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
         buffer.count_triangle_test(0, true);
         return true;
     }
+    let columns = (setup.x1 - setup.x0) as u32 + 1;
     let mut asked = 0u32;
     for row in y_first - band_y0..y_last - band_y0 + 1 {
-        for x in setup.x0..setup.x1 + 1 {
-            asked += 1;
-            if !buffer.hides(x, row, bound) {
-                buffer.count_triangle_test(asked, false);
-                return false;
-            }
+        let run = buffer.hidden_run(row, setup.x0, setup.x1, bound);
+        if run < columns {
+            // The pixels of the run and the first one not hidden.
+            buffer.count_triangle_test(asked + run + 1, false);
+            return false;
         }
+        asked += columns;
     }
     buffer.count_triangle_test(asked, true);
     true

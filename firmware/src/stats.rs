@@ -5,42 +5,42 @@
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BufferStats {
     /// Fragments the rasterizer produced (non-empty coverage).
-    pub fragments_generated: u64,
+    pub fragments_generated: u32,
     /// Fragments that survived visibility and were stored (possibly by a merge).
-    pub fragments_stored: u64,
+    pub fragments_stored: u32,
     /// New fragments hidden at every sample they covered, so never stored.
-    pub fragments_hidden_on_arrival: u64,
+    pub fragments_hidden_on_arrival: u32,
     /// Stored fragments removed because later fragments hid all their samples.
-    pub fragments_removed_hidden: u64,
+    pub fragments_removed_hidden: u32,
     /// Merges of two fragments into one (overflow under a merging policy).
-    pub merges: u64,
+    pub merges: u32,
     /// Fragments dropped on overflow (the discard policy).
-    pub fragments_discarded: u64,
+    pub fragments_discarded: u32,
     /// Most pool slots in use at once.
     pub pool_peak: u32,
     /// Most fragments held by one pixel at once.
     pub max_fragments_in_pixel: u32,
     /// Depth comparisons made (z-buffer modes: one per tested pixel).
-    pub depth_tests: u64,
+    pub depth_tests: u32,
     /// Depth comparisons made to decide about a whole triangle or a piece of one
     /// before rasterizing it: test points of the midpoint subdivision, tile tests
     /// of the hierarchical z-buffer, pixels of a triangle's box asked whether the
     /// band already hides them (`raster::hidden_in_band`, the plain z-buffer and
     /// the A-buffer). Not included in `depth_tests`.
-    pub culling_depth_tests: u64,
+    pub culling_depth_tests: u32,
     /// Depth-buffer reads that keep the hierarchical z-buffer's tile depths
     /// exact (a tile's farthest depth recomputed after its last farthest pixel
     /// was overwritten). Not comparisons against a new fragment.
-    pub tile_refresh_reads: u64,
+    pub tile_refresh_reads: u32,
     /// Triangles skipped without writing a pixel because a whole-triangle test
     /// judged every part of them hidden (counted once per band they were drawn in).
-    pub triangles_culled: u64,
+    pub triangles_culled: u32,
     /// Pieces judged hidden and skipped: sub-triangles of the midpoint
     /// subdivision, or tiles of the hierarchical z-buffer.
-    pub pieces_culled: u64,
+    pub pieces_culled: u32,
     /// Pixels written without a depth test (midpoint subdivision's "visible"
     /// verdict); these are included in `fragments_stored`.
-    pub untested_writes: u64,
+    pub untested_writes: u32,
 }
 
 /// Counters of the geometry stages over a frame.

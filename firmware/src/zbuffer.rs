@@ -62,9 +62,23 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         stored != EMPTY_DEPTH && 16 * (stored as i64) < depth
     }
 
+    /// Scans the row's depths against one threshold: an empty pixel
+    /// ([`EMPTY_DEPTH`]) is never nearer than a fragment's depth.
+    fn hidden_run(&mut self, row: u16, x0: u16, x1: u16, depth: i64) -> u32 {
+        // `16 stored < depth` exactly when `stored < ceil(depth / 16)`; the
+        // clamp keeps empty pixels out and changes no other answer.
+        let nearer_than = (depth + 15).div_euclid(16).clamp(0, EMPTY_DEPTH as i64) as u32;
+        let start = row as usize * self.width as usize;
+        let (x0, x1) = (x0 as usize, (x1 as usize).min(self.width as usize - 1));
+        let Some(depths) = self.depth.get(start + x0..start + x1 + 1) else {
+            return 0;
+        };
+        depths.iter().take_while(|&&d| d < nearer_than).count() as u32
+    }
+
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
-        self.stats.culling_depth_tests += pixels as u64;
-        self.stats.triangles_culled += hidden as u64;
+        self.stats.culling_depth_tests += pixels as u32;
+        self.stats.triangles_culled += hidden as u32;
     }
 
     #[inline]
@@ -86,7 +100,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
             return;
         };
         if fragment.mask == Mask1x1::FULL && fragment.z <= *depth {
-            self.stats.fragments_removed_hidden += (*depth != EMPTY_DEPTH) as u64;
+            self.stats.fragments_removed_hidden += (*depth != EMPTY_DEPTH) as u32;
             *depth = fragment.z;
             *color = fragment.color;
             self.stats.fragments_stored += 1;

@@ -149,7 +149,7 @@ impl<'a> HierarchicalZBuffer<'a> {
                 }
             }
         }
-        self.stats.tile_refresh_reads += (x1 - x0) as u64 * (y1 - y0) as u64;
+        self.stats.tile_refresh_reads += (x1 - x0) as u32 * (y1 - y0) as u32;
         let tile = &mut self.tiles[t];
         tile.far = far;
         tile.far_pixels = count;

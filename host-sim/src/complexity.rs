@@ -98,7 +98,7 @@ pub struct DepthComplexity {
     /// Pool peak with the configured buffer.
     pub pool_peak: u32,
     /// Merges with the configured buffer.
-    pub merges: u64,
+    pub merges: u32,
     /// Pool peak of the configured `N_main`/`N_extra` with a pool that never runs
     /// out: the smallest `N_pool` that forces no merge.
     pub pool_demand: u32,

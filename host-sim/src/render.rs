@@ -243,6 +243,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<B> {
     fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         self.inner.hides(x, row, depth)
     }
+    fn hidden_run(&mut self, row: u16, x0: u16, x1: u16, depth: i64) -> u32 {
+        self.inner.hidden_run(row, x0, x1, depth)
+    }
     fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
         self.inner.hides_columns(x0, x1, depth)
     }

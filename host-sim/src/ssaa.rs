@@ -670,14 +670,18 @@ pub fn render_ssaa(
     let mut generated = Vec::with_capacity(w as usize * h as usize);
     let mut stored = Vec::with_capacity(w as usize * h as usize);
     let mut buffer = BufferStats::default();
+    let mut depth_tests = 0u64;
     for r in &results {
         rgb.extend_from_slice(&r.rgb);
         generated.extend_from_slice(&r.generated);
         stored.extend_from_slice(&r.visible);
-        buffer.depth_tests += r.depth_tests;
+        depth_tests += r.depth_tests;
     }
-    buffer.fragments_generated = generated.iter().map(|&g| g as u64).sum();
-    buffer.fragments_stored = stored.iter().map(|&s| s as u64).sum();
+    // The frame's counters are 32-bit; a reference of more samples saturates.
+    let counter = |n: u64| u32::try_from(n).unwrap_or(u32::MAX);
+    buffer.depth_tests = counter(depth_tests);
+    buffer.fragments_generated = counter(generated.iter().map(|&g| g as u64).sum());
+    buffer.fragments_stored = counter(stored.iter().map(|&s| s as u64).sum());
     buffer.max_fragments_in_pixel = stored.iter().copied().max().unwrap_or(0) as u32;
     Ok(RenderOutput {
         width: w,

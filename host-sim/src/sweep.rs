@@ -285,8 +285,8 @@ pub fn run_sweep(
             Ok(FrameMeasure {
                 sums,
                 pool_peak: out.stats.buffer.pool_peak,
-                merges: out.stats.buffer.merges,
-                discarded: out.stats.buffer.fragments_discarded,
+                merges: out.stats.buffer.merges.into(),
+                discarded: out.stats.buffer.fragments_discarded.into(),
                 max_abs_diff,
                 differing_pixels,
             })

@@ -73,13 +73,13 @@ impl DepthCounts {
     /// The counters of a frame.
     pub fn of(b: &BufferStats) -> Self {
         Self {
-            per_pixel: b.depth_tests,
-            culling: b.culling_depth_tests,
-            tile_refresh_reads: b.tile_refresh_reads,
-            triangles_culled: b.triangles_culled,
-            pieces_culled: b.pieces_culled,
-            pixels_written: b.fragments_stored,
-            untested_writes: b.untested_writes,
+            per_pixel: b.depth_tests.into(),
+            culling: b.culling_depth_tests.into(),
+            tile_refresh_reads: b.tile_refresh_reads.into(),
+            triangles_culled: b.triangles_culled.into(),
+            pieces_culled: b.pieces_culled.into(),
+            pixels_written: b.fragments_stored.into(),
+            untested_writes: b.untested_writes.into(),
         }
     }
 

@@ -184,6 +184,20 @@ impl<M: CoverageMask, B: Inspect<M>> BandBuffer<M> for Checked<B> {
         self.assert_in_band(x, row);
         self.inner.hides(x, row, depth)
     }
+    fn hidden_run(&mut self, row: u16, x0: u16, x1: u16, depth: i64) -> u32 {
+        self.assert_in_band(x0, row);
+        self.assert_in_band(x1, row);
+        let run = self.inner.hidden_run(row, x0, x1, depth);
+        // The run must be what asking pixel by pixel finds.
+        let asked = (x0..=x1)
+            .take_while(|&x| self.inner.hides(x, row, depth))
+            .count() as u32;
+        assert_eq!(
+            run, asked,
+            "hidden_run({row}, {x0}, {x1}, {depth}) differs from asking each pixel"
+        );
+        run
+    }
     fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
         self.assert_in_band(x0, 0);
         self.assert_in_band(x1, 0);

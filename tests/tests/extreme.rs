@@ -215,13 +215,13 @@ fn depth_complexity_one_thousand() {
     // triangles that it already hides in a whole band.
     let covered = (0..h).all(|y| (0..w).all(|x| reference.hits(x, y, 0) == 1000));
     assert!(covered, "every triangle covers every pixel");
-    assert!(stats.buffer.fragments_generated >= pixels);
+    assert!(u64::from(stats.buffer.fragments_generated) >= pixels);
     assert!(stats.buffer.triangles_culled > 0);
     // The smallest memory and a typical one: budgets kept, every triangle set up.
     for (main, extra, pool, band) in [(1, 0, 0, 1), (1, 2, 64, 4), (3, 0, 1, 30)] {
         let mut storage = shared::<Mask4x4>(w, band, main, extra, pool);
         let (_, stats, _) = checked_render(&lib, &mut storage);
-        assert!(stats.buffer.fragments_generated >= pixels);
+        assert!(u64::from(stats.buffer.fragments_generated) >= pixels);
         assert!(stats.geometry.triangle_setups as u64 >= 1000 * h.div_ceil(band) as u64);
         assert!(stats.buffer.max_fragments_in_pixel <= (main + extra) as u32);
         assert!(stats.buffer.merges > 0);

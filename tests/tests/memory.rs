@@ -161,8 +161,8 @@ fn invariants<M: CoverageMask>(scenes: u64, seed: u64) {
                             "{what}: merging policy discarded"
                         );
                     }
-                    seen.merges += stats.buffer.merges;
-                    seen.discarded += stats.buffer.fragments_discarded;
+                    seen.merges += u64::from(stats.buffer.merges);
+                    seen.discarded += u64::from(stats.buffer.fragments_discarded);
                     seen.frames += 1;
                 }
             }

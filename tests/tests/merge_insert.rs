@@ -530,8 +530,8 @@ proptest! {
             }
             let (list, stats, in_use) = px.run(&frags[..=i]);
             prop_assert_eq!(&list, &model.list, "after {} insertions of {:?}", i + 1, &frags[..=i]);
-            prop_assert_eq!(stats.merges, model.merges);
-            prop_assert_eq!(stats.fragments_discarded, model.discarded);
+            prop_assert_eq!(u64::from(stats.merges), model.merges);
+            prop_assert_eq!(u64::from(stats.fragments_discarded), model.discarded);
             prop_assert_eq!(in_use, list.len().saturating_sub(main as usize));
         }
     }

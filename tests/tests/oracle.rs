@@ -139,7 +139,7 @@ fn run_grid<M: CoverageMask>(scenes: u64, seed: u64) -> Coverage {
             cov.max_fragments_in_pixel = cov
                 .max_fragments_in_pixel
                 .max(stats.buffer.max_fragments_in_pixel);
-            cov.removed_hidden += stats.buffer.fragments_removed_hidden;
+            cov.removed_hidden += u64::from(stats.buffer.fragments_removed_hidden);
             cov.clipped_triangles += stats.geometry.triangles_clipped as u64;
             if let Some((x, y, got, want)) = first_difference(WIDTH, &image, &expected) {
                 panic!(

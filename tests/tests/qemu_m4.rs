@@ -89,11 +89,11 @@ fn assert_parity(name: &str, config: &FirmwareConfig) -> FirmwareRun {
         assert_eq!(
             (s.generated, s.stored, s.merges, s.discarded, s.pool_peak),
             (
-                b.fragments_generated,
-                b.fragments_stored,
-                b.merges,
-                b.fragments_discarded,
-                b.pool_peak as u64
+                u64::from(b.fragments_generated),
+                u64::from(b.fragments_stored),
+                u64::from(b.merges),
+                u64::from(b.fragments_discarded),
+                u64::from(b.pool_peak)
             ),
             "{name} frame {i}: statistics differ"
         );

@@ -99,10 +99,10 @@ fn extreme_scene_on_the_m4_matches_the_host_and_its_stack_fits() {
         assert_eq!(
             (s.generated, s.stored, s.merges, s.pool_peak),
             (
-                b.fragments_generated,
-                b.fragments_stored,
-                b.merges,
-                b.pool_peak as u64
+                u64::from(b.fragments_generated),
+                u64::from(b.fragments_stored),
+                u64::from(b.merges),
+                u64::from(b.pool_peak)
             ),
             "frame {i}: statistics differ"
         );

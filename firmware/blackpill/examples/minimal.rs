@@ -108,7 +108,7 @@ fn main() -> ! {
     let mut sink = DrawTargetSink::new(&mut display);
     match renderer.render(&scene, &FrameOptions::default(), &mut sink) {
         Ok(stats) => defmt::info!(
-            "frame drawn: {=u64} fragments, {=u64} merges",
+            "frame drawn: {=u32} fragments, {=u32} merges",
             stats.buffer.fragments_generated,
             stats.buffer.merges
         ),

@@ -187,7 +187,7 @@ fn main() -> ! {
             Ok(stats) => {
                 let stack = painted_stack_use(cortex_m_rt::STACK_PAINT_VALUE);
                 defmt::info!(
-                    "frame {=u32} {=str} {=i32} deg: {=u32}.{=u32} fps, {=u64} cycles ({=u64} waiting for the display), {=u64} fragments, {=u64} merges, pool peak {=u32}, stack {=usize} of {=usize} bytes, {=u32} DMA errors",
+                    "frame {=u32} {=str} {=i32} deg: {=u32}.{=u32} fps, {=u64} cycles ({=u64} waiting for the display), {=u32} fragments, {=u32} merges, pool peak {=u32}, stack {=usize} of {=usize} bytes, {=u32} DMA errors",
                     frame_number,
                     name,
                     frame.angle_deg.to_num::<i32>(),

@@ -210,6 +210,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
     fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         self.inner.hides(x, row, depth)
     }
+    fn hidden_run(&mut self, row: u16, x0: u16, x1: u16, depth: i64) -> u32 {
+        self.inner.hidden_run(row, x0, x1, depth)
+    }
     fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {
         self.inner.hides_columns(x0, x1, depth)
     }
@@ -340,7 +343,7 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
             stack_reserved
         );
         defmt::info!(
-            "frame {=usize}: {=u64} instructions ({=u64} rendering, {=u64} output), {=u64} fragments, {=u64} merges, pool peak {=u32}",
+            "frame {=usize}: {=u64} instructions ({=u64} rendering, {=u64} output), {=u32} fragments, {=u32} merges, pool peak {=u32}",
             i,
             instructions,
             instructions - output,
@@ -355,12 +358,12 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
                 i as u64,
                 instructions,
                 output,
-                b.fragments_generated,
-                b.fragments_stored,
-                b.fragments_hidden_on_arrival,
-                b.fragments_removed_hidden,
-                b.merges,
-                b.fragments_discarded,
+                b.fragments_generated as u64,
+                b.fragments_stored as u64,
+                b.fragments_hidden_on_arrival as u64,
+                b.fragments_removed_hidden as u64,
+                b.merges as u64,
+                b.fragments_discarded as u64,
                 b.pool_peak as u64,
                 b.max_fragments_in_pixel as u64,
                 stats.geometry.triangles_in as u64,

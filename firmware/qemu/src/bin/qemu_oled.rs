@@ -148,7 +148,7 @@ impl WithBuffers for Frame {
         let start = ticks();
         match render_frame(&scene::SCENE, &options, ws, buffer, &mut self.sink, |_, _, _| {}) {
             Ok(stats) => defmt::info!(
-                "frame out in {=u64} SysTick ticks: {=u64} fragments, {=u64} merges, pool peak {=u32}",
+                "frame out in {=u64} SysTick ticks: {=u32} fragments, {=u32} merges, pool peak {=u32}",
                 ticks() - start,
                 stats.buffer.fragments_generated,
                 stats.buffer.merges,
