@@ -595,22 +595,6 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         self.stats.fragments_stored += 1;
     }
 
-    /// [`BandBuffer::hides`] for pixel `p`.
-    #[inline(always)]
-    fn pixel_hides(&mut self, p: usize, depth: i64) -> bool {
-        let n = self.counts[p] as usize;
-        if n == 0 {
-            return false;
-        }
-        let mut covered = M::EMPTY;
-        let farther = self.any_stored(p, n, |f| {
-            covered = covered | f.mask();
-            // The farthest sample of the stored fragment's plane (below 2^29).
-            f.farthest_sample_depth() as i64 >= depth
-        });
-        !farther && covered == M::FULL
-    }
-
     /// [`BandBuffer::survives`] for pixel `p`, which holds fragments.
     #[inline(never)]
     fn survives_in_list(&mut self, p: usize, fragment: &Fragment<M>) -> bool {
@@ -732,20 +716,17 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     #[inline]
     fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
         let p = self.pixel_index(x, row);
-        self.pixel_hides(p, depth)
-    }
-
-    fn hidden_run(&mut self, row: u16, x0: u16, x1: u16, depth: i64) -> u32 {
-        let last = (x1 as usize).min(self.config.width as usize - 1);
-        let (first, end) = (
-            self.pixel_index(x0, row),
-            self.pixel_index(0, row) + last + 1,
-        );
-        let mut p = first;
-        while p < end && self.pixel_hides(p, depth) {
-            p += 1;
+        let n = self.counts[p] as usize;
+        if n == 0 {
+            return false;
         }
-        (p - first) as u32
+        let mut covered = M::EMPTY;
+        let farther = self.any_stored(p, n, |f| {
+            covered = covered | f.mask();
+            // The farthest sample of the stored fragment's plane (below 2^29).
+            f.farthest_sample_depth() as i64 >= depth
+        });
+        !farther && covered == M::FULL
     }
 
     fn hides_columns(&mut self, x0: u16, x1: u16, depth: i64) -> bool {

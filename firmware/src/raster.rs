@@ -19,7 +19,6 @@
 
 use crate::band_buffer::BandBuffer;
 use crate::coverage::CoverageMask;
-use crate::fixed_point::DEPTH_MAX;
 use crate::fragment::{fragment_depth, Fragment};
 use crate::setup::{ColorPlanes, Edge, TriangleSetup};
 use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, PhongWalk, QuadraticWalk};
@@ -180,16 +179,27 @@ pub fn rasterize<M, B, F>(
 }
 
 /// Whether `buffer` hides every fragment `setup` could leave in the band
-/// starting at image row `band_y0` with `band_rows` rows: every pixel of the
-/// triangle's bounding box there holds something strictly nearer, at every
-/// sample, than the nearest sample depth any of its fragments can have. Then
-/// rasterizing it would change nothing (each fragment would be hidden on
-/// arrival), so it is counted and skipped.
+/// starting at image row `band_y0` with `band_rows` rows: at every pixel the
+/// triangle can touch there, the buffer holds something strictly nearer, at
+/// every sample, than the nearest sample depth any fragment of it can have.
+/// Then rasterizing it would change nothing (each fragment would be hidden
+/// on arrival), so it is counted and skipped.
 ///
-/// The bound is exact for the fragments the rasterizer makes: their depth at a
-/// pixel center is the walked plane, whose smallest value over the box is at
-/// one of its corners, rounded as fragments are; a sample lies at most the
-/// grid's largest offsets from the center.
+/// Asked in two steps. First whole strips of the bounding box's columns,
+/// against the nearest sample depth over the whole box: one comparison a
+/// strip where the buffer keeps a summary ([`BandBuffer::hides_columns`]).
+/// Then pixel by pixel: a single-sample buffer (the z-buffer) scans the
+/// box's rows against that same bound ([`BandBuffer::hidden_run`], a few
+/// instructions a pixel); a multi-sample buffer is asked only about the
+/// pixels of the triangle's row spans, each against the nearest sample depth
+/// at that pixel ([`spans_hidden`]): fewer and tighter questions, each
+/// dearer (on the two-sided teapot, 0.27 M fewer instructions a frame than
+/// asking about the box).
+///
+/// The bounds are exact for the fragments the rasterizer makes: their depth
+/// at a pixel center is the walked plane, rounded as fragments are, whose
+/// smallest value over the box is at one of its corners; a sample lies at
+/// most the grid's largest offsets from the center.
 pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
     setup: &TriangleSetup,
     band_y0: u16,
@@ -205,6 +215,11 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
     if y_first > y_last || setup.x0 > setup.x1 {
         return false;
     }
+    let rows = RowRange {
+        first: y_first,
+        last: y_last,
+        band_y0,
+    };
     let d = &setup.depth;
     let (i1, j0, j1) = (
         (setup.x1 - setup.x0) as i64,
@@ -216,19 +231,40 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
         .min(corner(i1, j0))
         .min(corner(0, j1))
         .min(corner(i1, j1));
-    let z = ((nearest + (1 << 15)) >> 16).clamp(0, DEPTH_MAX as i64);
-    let bound = 16 * z
-        - setup.dzdx.unsigned_abs() as i64 * M::max_offset_x() as i64
-        - setup.dzdy.unsigned_abs() as i64 * M::max_offset_y() as i64;
-    // Whole strips of columns first: one comparison each where the buffer
-    // keeps a summary.
+    let bound = 16 * fragment_depth(nearest) as i64 - sample_reach::<M>(setup);
     if buffer.hides_columns(setup.x0, setup.x1, bound) {
         buffer.count_triangle_test(0, true);
         return true;
     }
+    if M::SAMPLES == 1 {
+        box_hidden(setup, rows, bound, buffer)
+    } else if edges_fit_i32(setup, y_first, y_last) {
+        spans_hidden(setup, &EdgeWalk::<M, i32>::new(setup), rows, buffer)
+    } else {
+        spans_hidden(setup, &EdgeWalk::<M, i64>::new(setup), rows, buffer)
+    }
+}
+
+/// How much nearer than its depth at the pixel center (times 16) a fragment
+/// of `setup` can be at a sample: its gradients times the grid's largest
+/// sample offsets.
+#[inline]
+fn sample_reach<M: CoverageMask>(setup: &TriangleSetup) -> i64 {
+    setup.dzdx.unsigned_abs() as i64 * M::max_offset_x() as i64
+        + setup.dzdy.unsigned_abs() as i64 * M::max_offset_y() as i64
+}
+
+/// [`hidden_in_band`]'s pixel step over the rows of the bounding box, every
+/// pixel against `bound`; counts the test.
+fn box_hidden<M: CoverageMask, B: BandBuffer<M>>(
+    setup: &TriangleSetup,
+    rows: RowRange,
+    bound: i64,
+    buffer: &mut B,
+) -> bool {
     let columns = (setup.x1 - setup.x0) as u32 + 1;
     let mut asked = 0u32;
-    for row in y_first - band_y0..y_last - band_y0 + 1 {
+    for row in rows.first - rows.band_y0..rows.last - rows.band_y0 + 1 {
         let run = buffer.hidden_run(row, setup.x0, setup.x1, bound);
         if run < columns {
             // The pixels of the run and the first one not hidden.
@@ -236,6 +272,52 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
             return false;
         }
         asked += columns;
+    }
+    buffer.count_triangle_test(asked, true);
+    true
+}
+
+/// [`hidden_in_band`]'s pixel step over the triangle's row spans (the pixels
+/// the rasterizer would look at), each pixel against the nearest sample
+/// depth a fragment of it can have there; counts the test.
+fn spans_hidden<M, B, E>(
+    setup: &TriangleSetup,
+    edges: &EdgeWalk<M, E>,
+    rows: RowRange,
+    buffer: &mut B,
+) -> bool
+where
+    M: CoverageMask,
+    B: BandBuffer<M>,
+    E: EdgeValue,
+{
+    let reach = sample_reach::<M>(setup);
+    let dz = setup.depth.dx;
+    let start = edges.first_row(setup, rows.first);
+    let (mut e_row, mut z_row, mut span) = (start.e_row, start.z_row, start.span);
+    let mut asked = 0u32;
+    let mut y = rows.first;
+    loop {
+        let row = y - rows.band_y0;
+        let mut z = z_row + span.start * dz;
+        for k in span.start..span.end {
+            asked += 1;
+            let bound = 16 * fragment_depth(z) as i64 - reach;
+            if !buffer.hides(setup.x0 + k as u16, row, bound) {
+                buffer.count_triangle_test(asked, false);
+                return false;
+            }
+            z += dz;
+        }
+        if y >= rows.last {
+            break;
+        }
+        y += 1;
+        for i in 0..3 {
+            e_row[i] = e_row[i] + edges.step_y[i];
+        }
+        z_row += setup.depth.dy;
+        span = edges.span(&e_row);
     }
     buffer.count_triangle_test(asked, true);
     true
