@@ -745,7 +745,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     }
 
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
-        self.stats.culling_depth_tests += pixels as u32;
+        self.stats.culling_depth_tests += pixels;
         self.stats.triangles_culled += hidden as u32;
     }
 

@@ -77,7 +77,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
     }
 
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
-        self.stats.culling_depth_tests += pixels as u32;
+        self.stats.culling_depth_tests += pixels;
         self.stats.triangles_culled += hidden as u32;
     }
 
