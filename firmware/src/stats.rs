@@ -1,6 +1,9 @@
 //! Per-frame statistics.
 
 /// Counters kept by a band buffer (A-buffer or z-buffer) over a frame.
+///
+/// 32-bit: one addition each on the per-pixel paths, and a frame would need
+/// more than 4 x 10^9 fragments or depth tests to reach their limit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BufferStats {
@@ -24,9 +27,10 @@ pub struct BufferStats {
     pub depth_tests: u32,
     /// Depth comparisons made to decide about a whole triangle or a piece of one
     /// before rasterizing it: test points of the midpoint subdivision, tile tests
-    /// of the hierarchical z-buffer, pixels of a triangle's box asked whether the
-    /// band already hides them (`raster::hidden_in_band`, the plain z-buffer and
-    /// the A-buffer). Not included in `depth_tests`.
+    /// of the hierarchical z-buffer, pixels asked whether the band already
+    /// hides them (`raster::hidden_in_band`: the plain z-buffer's of a
+    /// triangle's box, the A-buffer's of its row spans). Not included in
+    /// `depth_tests`.
     pub culling_depth_tests: u32,
     /// Depth-buffer reads that keep the hierarchical z-buffer's tile depths
     /// exact (a tile's farthest depth recomputed after its last farthest pixel
