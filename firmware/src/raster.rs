@@ -312,11 +312,7 @@ where
             break;
         }
         y += 1;
-        for i in 0..3 {
-            e_row[i] = e_row[i] + edges.step_y[i];
-        }
-        z_row += setup.depth.dy;
-        span = edges.span(&e_row);
+        span = edges.next_row(setup, &mut e_row, &mut z_row);
     }
     buffer.count_triangle_test(asked, true);
     true
@@ -490,6 +486,17 @@ impl<M: CoverageMask, E: EdgeValue> EdgeWalk<M, E> {
     #[inline(always)]
     fn span(&self, e: &[E; 3]) -> RowSpan {
         row_span(e, &self.step_x, &self.margin, self.columns, M::SAMPLES == 1)
+    }
+
+    /// Steps the edge values `e_row` and the depth `z_row` at the bounding
+    /// box's first column down one row; returns the new row's span.
+    #[inline(always)]
+    fn next_row(&self, setup: &TriangleSetup, e_row: &mut [E; 3], z_row: &mut i64) -> RowSpan {
+        for i in 0..3 {
+            e_row[i] = e_row[i] + self.step_y[i];
+        }
+        *z_row += setup.depth.dy;
+        self.span(e_row)
     }
 
     /// A walk from the start of image row `y` (within the bounding box).
@@ -706,10 +713,6 @@ where
         }
         y += 1;
         walk.next_row();
-        for i in 0..3 {
-            e_row[i] = e_row[i] + edges.step_y[i];
-        }
-        z_row += setup.depth.dy;
-        span = edges.span(&e_row);
+        span = edges.next_row(setup, &mut e_row, &mut z_row);
     }
 }
