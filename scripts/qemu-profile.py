@@ -174,7 +174,9 @@ def main():
                              check=True).stdout
         inside = False
         for line in out.splitlines():
-            if line.endswith(">:"):
+            # Mapping symbols (`<$d...>`, `<$t...>`: data such as jump
+            # tables, then code again) are labels inside a function.
+            if line.endswith(">:") and "<$" not in line:
                 inside = args.annotate in line
                 if inside:
                     print(line)

@@ -182,16 +182,6 @@ impl QuadraticPolynomial {
     }
 }
 
-/// `v / 2^n` rounded to nearest (halves up).
-#[inline]
-fn shift_round(v: i64, n: u32) -> i64 {
-    if n == 0 {
-        v
-    } else {
-        (v + (1 << (n - 1))) >> n
-    }
-}
-
 /// `x y + z w` from Q20 factors, rounded back to Q20. Every factor is below
 /// 2^31 in magnitude (the fit checks `|s0| + |su| + |sv| < 2^30` first), so each
 /// product is one 32 x 32-bit multiplication.
@@ -298,6 +288,7 @@ pub fn fit_quadratic(
     } else {
         0
     };
+    let low_mask = (1i64 << drop) - 1;
     // One channel at a time, straight-line: the six coefficients of channel
     // `ch` from its Q8 weights and the shared monomials.
     let mut fitted = [QuadraticPolynomial::default(); 3];
@@ -318,21 +309,34 @@ pub fn fit_quadratic(
         let gamma = 4 * (c0 + m12 - m01 - m20);
         let delta = 4 * m01 - 3 * c0 - c1;
         let epsilon = 4 * m20 - 3 * c0 - c2;
-        // The weights fit 20 bits: 32 x 64-bit products.
+        // The weights fit 20 bits: 32 x 64-bit products with the monomials,
+        // 32 x 32-bit ones with the barycentric planes (below 2^30, checked
+        // above).
         let times = |w: i64, m: i64| w as i32 as i64 * m;
+        let linear = |w: i64, s: i64| w as i32 as i64 * s as i32 as i64;
         let quadratic = |k: usize| times(alpha, ss[k]) + times(beta, tt[k]) + times(gamma, st[k]);
         // Q8 weights times Q20 mantissas: Q28 over the normalized box; the
         // powers of u = i / 2^p and v = j / 2^q become shifts. On a small box
-        // the coefficients are rounded to multiples of 2^8 (see `drop`).
-        let round = |v: i64, n: u32| shift_round(v, n + drop) << drop;
+        // the coefficients are rounded to multiples of 2^8 (see `drop`): the
+        // value over 2^(n + drop) rounded to nearest (halves up), times
+        // 2^drop, with one shift (the quotient by 2^n, floored, then its low
+        // `drop` bits cleared).
+        let round = |v: i64, n: u32| {
+            let total = n + drop;
+            if total == 0 {
+                v
+            } else {
+                ((v + (1 << (total - 1))) >> n) & !low_mask
+            }
+        };
         *out = QuadraticPolynomial {
             a: round(quadratic(0), 2 * p),
             b: round(quadratic(1), 2 * q),
             c: round(quadratic(2), p + q),
-            d: round(quadratic(3) + delta * su + epsilon * tu, p),
-            e: round(quadratic(4) + delta * sv + epsilon * tv, q),
+            d: round(quadratic(3) + linear(delta, su) + linear(epsilon, tu), p),
+            e: round(quadratic(4) + linear(delta, sv) + linear(epsilon, tv), q),
             f: round(
-                quadratic(5) + delta * s0 + epsilon * t0 + (c0 << BARYCENTRIC_BITS),
+                quadratic(5) + linear(delta, s0) + linear(epsilon, t0) + (c0 << BARYCENTRIC_BITS),
                 0,
             ),
         };
