@@ -617,11 +617,60 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         true
     }
 
+    /// [`Self::insert_into_list`] for a pixel holding one fragment whose
+    /// samples `fragment` does not share (the edge between two triangles of a
+    /// mesh, the commonest case): nothing to settle, the two go in depth
+    /// order, and a pool slot is taken when the pixel has one main slot.
+    /// `false` (nothing done) when the samples overlap or no slot is left;
+    /// the general path then decides.
+    #[inline(always)]
+    fn insert_beside_one(&mut self, x: u16, p: usize, fragment: &Fragment<M>) -> bool {
+        let n_main = self.config.main_slots as usize;
+        let first = self.main[p * n_main];
+        if fragment.mask.is_empty()
+            || !(first.mask() & fragment.mask).is_empty()
+            || self.config.pixel_capacity() < 2
+        {
+            return false;
+        }
+        let second = if n_main >= 2 {
+            Slot::Main(p * n_main + 1)
+        } else {
+            let Some(slot) = self.pool.allocate() else {
+                return false;
+            };
+            self.addresses[p * self.config.extra_addresses as usize] = A::from_index(slot);
+            Slot::Pool(slot)
+        };
+        let packed = PackedFragment::pack(fragment);
+        // After the stored fragment unless it lies farther (ties keep the
+        // stored one first, as the sorted insertion does).
+        let (near, far) = if first.z() > fragment.z {
+            (packed, first)
+        } else {
+            (first, packed)
+        };
+        self.main[p * n_main] = near;
+        match second {
+            Slot::Main(s) => self.main[s] = far,
+            Slot::Pool(s) => *self.pool.get_mut(s) = far,
+        }
+        self.strips.stored(x as usize, &packed);
+        self.strips.covered(x as usize, first.mask(), fragment.mask);
+        self.counts[p] = 2;
+        self.stats.fragments_stored += 1;
+        self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(2);
+        true
+    }
+
     /// [`BandBuffer::insert`] into pixel `p` (column `x`) that already holds
     /// fragments.
     #[inline(never)]
     fn insert_into_list(&mut self, x: u16, p: usize, fragment: &Fragment<M>) {
         let mut n = self.counts[p] as usize;
+        if n == 1 && self.insert_beside_one(x, p, fragment) {
+            return;
+        }
         let mut f = *fragment;
         // Settle every shared sample with each stored fragment (their masks are
         // disjoint, so the order of comparison does not matter), and find the
