@@ -402,6 +402,7 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
     }
 
     /// Moves list positions `from..to` one place later (position `to` is overwritten).
+    #[inline(always)]
     fn shift_later(&mut self, p: usize, from: usize, to: usize) {
         let mut j = to;
         while j > from {
