@@ -484,12 +484,14 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
                 };
                 let mut best = n - 1;
                 let mut best_gap = u32::MAX;
+                let mut z = z_at(self, 0);
                 for i in 0..n {
-                    let gap = z_at(self, i + 1) - z_at(self, i);
-                    if gap <= best_gap {
-                        best_gap = gap;
+                    let next = z_at(self, i + 1);
+                    if next - z <= best_gap {
+                        best_gap = next - z;
                         best = i;
                     }
+                    z = next;
                 }
                 self.merge_pair(p, k, f, best);
             }
