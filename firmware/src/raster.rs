@@ -126,7 +126,12 @@ fn pixel_coverage<M: CoverageMask, E: EdgeValue>(
 
 /// Whether every edge value over the rows `y_first..=y_last` of the bounding box
 /// (and one step beyond) stays within `±2^30`, so the pixel loop can run in `i32`.
+/// A triangle under 1,024 pixels across (nearly every one) needs no more
+/// than its corners to say so.
 fn edges_fit_i32(setup: &TriangleSetup, y_first: u16, y_last: u16) -> bool {
+    if setup.corners_within_1024_px() {
+        return true;
+    }
     let columns = (setup.x1 - setup.x0) as i64 + 1;
     let rows = (y_last - setup.y0) as i64 + 1;
     let _ = y_first;

@@ -379,6 +379,19 @@ impl TriangleSetup {
         }
     }
 
+    /// Whether the corners lie within 1,024 pixels of each other in x and
+    /// in y. Then every edge value of the rasterizer stays below 2^30 in
+    /// magnitude: at a pixel center of the bounding box or one step beyond
+    /// it, `x - x_a` is within `W + 24` (1/16 pixel, `W` the corners' extent
+    /// in x, below 2^14) and likewise `y`, and `|a| <= H`, `|b| <= W`, so
+    /// `|E| <= 2 W H + 24 (W + H) + 1 < 2^29 + 2^20`.
+    #[inline]
+    pub(crate) fn corners_within_1024_px(&self) -> bool {
+        let extent = |c: &[i32; 3]| c[0].max(c[1]).max(c[2]) - c[0].min(c[1]).min(c[2]);
+        const LIMIT: i32 = 1024 << SUBPIXEL_BITS;
+        extent(&self.corners.xs) < LIMIT && extent(&self.corners.ys) < LIMIT
+    }
+
     /// Whether the triangle faces away from the viewer (clockwise on screen
     /// with y downward; see [`is_backfacing`]).
     #[inline]

@@ -337,6 +337,52 @@ fn setup_and_rasterization_at_the_guard_band() {
     assert!(gouraud > 10_000);
 }
 
+/// Triangles just under 1,024 pixels across walk their edges in 32 bits
+/// without asking the edge values (`TriangleSetup`'s corner test): the
+/// largest such triangles, in every orientation, on and partly off the
+/// screen, rasterized over their first and last rows (and so one step
+/// beyond), with overflow checks on.
+#[test]
+fn triangles_under_1024_pixels_walk_in_32_bits() {
+    let mut rng = Rng::new(1024);
+    let span = (1024 << 4) - 1;
+    let mut fragments = 0;
+    for i in 0..400 {
+        // A right triangle spanning `span` both ways (the largest edge
+        // values), its corner at one of four places, flipped either way.
+        let (sx, sy) = ([1, -1][i % 2], [1, -1][i / 2 % 2]);
+        let x0 = rng.range(-8 << 4, 2048 << 4) as i32;
+        let y0 = rng.range(-8 << 4, 2048 << 4) as i32;
+        let third = if i % 8 < 4 {
+            (x0, y0 + sy * span)
+        } else {
+            (x0 + sx * rng.range(0, span as i64) as i32, y0 + sy * span)
+        };
+        let v = [(x0, y0), (x0 + sx * span, y0), third].map(|(x, y)| SetupVertex {
+            x,
+            y,
+            z: DEPTH_MAX / 2,
+            color: [255 << 8; 3],
+        });
+        let Ok(setup) = TriangleSetup::new(&v, false, 2048, 2048) else {
+            continue;
+        };
+        for band_y0 in [setup.y0, setup.y1.saturating_sub(1)] {
+            let mut sink = Sink::<Mask4x4> {
+                width: 2048,
+                rows: 2,
+                fragments: 0,
+                _grid: Default::default(),
+            };
+            rasterize(&setup, band_y0, 2.min(2048 - band_y0), &mut sink, || {
+                ColorPlanes::Constant(Rgb888::new(255, 255, 255))
+            });
+            fragments += sink.fragments;
+        }
+    }
+    assert!(fragments > 100_000, "{fragments}");
+}
+
 /// Sample depths and visibility masks with depths and gradients at their limits:
 /// `16 z + dzdx ox + dzdy oy` below 2^29, and every visibility bit as the exact
 /// comparison in 64 bits says.
