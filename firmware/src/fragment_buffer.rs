@@ -512,6 +512,8 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
                 };
                 self.stats.fragments_discarded += 1;
                 if drop == k {
+                    // Neither stored nor hidden: counted as generated here.
+                    self.stats.fragments_generated += 1;
                     return;
                 }
                 let stored = if drop < k { drop } else { drop - 1 };
@@ -613,7 +615,6 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
             left.is_empty()
         });
         if hidden {
-            self.stats.fragments_generated += 1;
             self.stats.fragments_hidden_on_arrival += 1;
             return false;
         }
@@ -813,7 +814,6 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     // one store; the others take the out-of-line path.
     #[inline]
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
-        self.stats.fragments_generated += 1;
         let p = self.pixel_index(x, row);
         if self.counts[p] == 0 {
             // The first fragment of a pixel goes to its first main slot.
@@ -858,8 +858,14 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     fn stats(&self) -> BufferStats {
         // The pool keeps its own peak, so inserting needs not copy it; a
         // pixel's first fragment does not update the most in a pixel, which
-        // is at least one once anything is stored.
+        // is at least one once anything is stored. Every fragment offered is
+        // stored (or merged), hidden on arrival, or (`Discard`) dropped on
+        // arrival, which alone counts itself as generated: the sum is the
+        // fragments generated, with no counter on the per-pixel paths.
         BufferStats {
+            fragments_generated: self.stats.fragments_generated
+                + self.stats.fragments_stored
+                + self.stats.fragments_hidden_on_arrival,
             pool_peak: self.stats.pool_peak.max(self.pool.peak() as u32),
             max_fragments_in_pixel: self
                 .stats
