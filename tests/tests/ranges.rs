@@ -348,8 +348,10 @@ fn triangles_under_1024_pixels_walk_in_32_bits() {
     let span = (1024 << 4) - 1;
     let mut fragments = 0;
     for i in 0..400 {
-        // A right triangle spanning `span` both ways (the largest edge
-        // values), its corner at one of four places, flipped either way.
+        // A triangle spanning `span` both ways (the largest edge values the
+        // corner test lets through): its first corner anywhere on or just
+        // off the screen, mirrored in x and in y in turn, the third corner
+        // above the first or anywhere along the far side.
         let (sx, sy) = ([1, -1][i % 2], [1, -1][i / 2 % 2]);
         let x0 = rng.range(-8 << 4, 2048 << 4) as i32;
         let y0 = rng.range(-8 << 4, 2048 << 4) as i32;
