@@ -621,49 +621,44 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         true
     }
 
-    /// [`Self::insert_into_list`] for a pixel holding one fragment whose
-    /// samples `fragment` does not share (the edge between two triangles of a
-    /// mesh, the commonest case): nothing to settle, the two go in depth
-    /// order, and a pool slot is taken when the pixel has one main slot.
-    /// `false` (nothing done) when the samples overlap or no slot is left;
-    /// the general path then decides.
+    /// [`Self::insert_into_list`] for a pixel holding `N` fragments (one or
+    /// two) none of whose samples `fragment` shares (at the edges between
+    /// the triangles of a mesh, the commonest case): nothing to settle, the
+    /// new one goes into depth order, and list position `N` takes a main
+    /// slot or a pool slot. `false` (nothing done) when the samples overlap
+    /// or no slot is left; the general path then decides.
     #[inline(always)]
-    fn insert_beside_one(&mut self, x: u16, p: usize, fragment: &Fragment<M>) -> bool {
-        let n_main = self.config.main_slots as usize;
-        let first = self.main[p * n_main];
-        if fragment.mask.is_empty()
-            || !(first.mask() & fragment.mask).is_empty()
-            || self.config.pixel_capacity() < 2
-        {
+    fn insert_beside<const N: usize>(&mut self, x: u16, p: usize, fragment: &Fragment<M>) -> bool {
+        if fragment.mask.is_empty() || self.config.pixel_capacity() <= N {
             return false;
         }
-        let second = if n_main >= 2 {
-            Slot::Main(p * n_main + 1)
-        } else {
+        let stored: [PackedFragment<M>; N] = core::array::from_fn(|i| self.read(p, i));
+        let covered = stored.iter().fold(M::EMPTY, |c, f| c | f.mask());
+        if !(covered & fragment.mask).is_empty() {
+            return false;
+        }
+        let n_main = self.config.main_slots as usize;
+        if N >= n_main {
             let Some(slot) = self.pool.allocate() else {
                 return false;
             };
-            self.addresses[p * self.config.extra_addresses as usize] = A::from_index(slot);
-            Slot::Pool(slot)
-        };
-        let packed = PackedFragment::pack(fragment);
-        // After the stored fragment unless it lies farther (ties keep the
-        // stored one first, as the sorted insertion does).
-        let (near, far) = if first.z() > fragment.z {
-            (packed, first)
-        } else {
-            (first, packed)
-        };
-        self.main[p * n_main] = near;
-        match second {
-            Slot::Main(s) => self.main[s] = far,
-            Slot::Pool(s) => *self.pool.get_mut(s) = far,
+            self.addresses[p * self.config.extra_addresses as usize + (N - n_main)] =
+                A::from_index(slot);
         }
+        let packed = PackedFragment::pack(fragment);
+        // After every stored fragment up to the first that lies farther (as
+        // the sorted insertion places it); the ones from there move one
+        // place later.
+        let k = (0..N).find(|&i| stored[i].z() > fragment.z).unwrap_or(N);
+        for i in (k..N).rev() {
+            self.write(p, i + 1, stored[i]);
+        }
+        self.write(p, k, packed);
         self.strips.stored(x as usize, &packed);
-        self.strips.covered(x as usize, first.mask(), fragment.mask);
-        self.counts[p] = 2;
+        self.strips.covered(x as usize, covered, fragment.mask);
+        self.counts[p] = N as u8 + 1;
         self.stats.fragments_stored += 1;
-        self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(2);
+        self.stats.max_fragments_in_pixel = self.stats.max_fragments_in_pixel.max(N as u32 + 1);
         true
     }
 
@@ -672,7 +667,12 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
     #[inline(never)]
     fn insert_into_list(&mut self, x: u16, p: usize, fragment: &Fragment<M>) {
         let mut n = self.counts[p] as usize;
-        if n == 1 && self.insert_beside_one(x, p, fragment) {
+        let beside = match n {
+            1 => self.insert_beside::<1>(x, p, fragment),
+            2 => self.insert_beside::<2>(x, p, fragment),
+            _ => false,
+        };
+        if beside {
             return;
         }
         let mut f = *fragment;
