@@ -72,6 +72,10 @@
 //!   coefficient is below 2^61.1; the surface over the box is below 2^40 in Q8,
 //!   i.e. `|Q| < 2^60.1`, first differences below 2^61.1 and second differences
 //!   below 2^62.1: every value the walker holds fits `i64`.
+//! - When both sums are below 2^25 instead (barycentric coordinates below 32,
+//!   nearly every triangle), every monomial mantissa is below 2^30 + 1 and the
+//!   fit multiplies it as an `i32`: the same products, one 32 x 32-bit
+//!   multiplication each.
 //!
 //! ## Accuracy (8-bit steps, inside the triangle)
 //!
@@ -102,6 +106,10 @@ pub const BARYCENTRIC_BITS: u32 = 20;
 
 /// Bound on `|s0| + |su| + |sv|` (and `t`) for the quadratic fit (2^10 in value).
 const BARYCENTRIC_LIMIT: i64 = 1 << 30;
+
+/// Bound on `|s0| + |su| + |sv|` (and `t`) under which the fit's monomials
+/// fit `i32` (2^5 in value).
+const SMALL_BARYCENTRIC_LIMIT: i64 = 1 << 25;
 
 /// The largest sample, 255 in Q8.
 const SAMPLE_MAX: i64 = 255 << 8;
@@ -213,50 +221,148 @@ pub fn fit_quadratic(
     size: (i64, i64),
     samples: &QuadraticSamples,
 ) -> Option<[QuadraticPolynomial; 3]> {
-    let guard = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
-    let box_limit = 4096;
-    if xs.iter().chain(ys).any(|c| c.abs() > guard)
-        || !(0..=box_limit).contains(&origin.0)
-        || !(0..=box_limit).contains(&origin.1)
-        || size.0 > box_limit
-        || size.1 > box_limit
-    {
-        return None;
-    }
-    let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
-    let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
-    let area2 = dx1 * dy2 - dx2 * dy1;
-    if area2 == 0 || size.0 < 1 || size.1 < 1 {
-        return None;
-    }
-    let sign = area2.signum();
-    let area2 = area2.abs();
-    let half = 1i64 << (SUBPIXEL_BITS - 1);
-    let u0 = (origin.0 << SUBPIXEL_BITS) + half - xs[0];
-    let v0 = (origin.1 << SUBPIXEL_BITS) + half - ys[0];
-    let p = bits_above(size.0);
-    let q = bits_above(size.1);
-    // s * area2 = (x - x0) dy2 - (y - y0) dx2 with x = 16 (x0 + u 2^p) + 8 ...;
-    // [value at the origin, change over u in [0, 1], change over v in [0, 1]].
-    // One reciprocal of the area for the six plane coefficients.
-    let reciprocal = Reciprocal::new(area2 as u64);
-    let plane = |n0: i64, nx: i64, ny: i64| {
+    let basis = FitBasis::new(xs, ys, origin, size)?;
+    Some(if basis.monomials_fit_i32() {
+        fit_channels::<i32>(&basis, samples)
+    } else {
+        fit_channels::<i64>(&basis, samples)
+    })
+}
+
+/// What [`fit_quadratic`] shares between channels besides the monomials: the
+/// barycentric planes over the normalized box (`[value at the origin, change
+/// over u, change over v]`, Q20), the shift that takes each coefficient from
+/// the normalized box to pixel steps, and the low bits dropped on small boxes.
+struct FitBasis {
+    s: [i64; 3],
+    t: [i64; 3],
+    shifts: [u32; 6],
+    drop: u32,
+}
+
+impl FitBasis {
+    /// The barycentric planes of the triangle `xs`, `ys` over the box at
+    /// `origin` of `size` pixels, as [`fit_quadratic`] takes them; `None`
+    /// where it returns `None`.
+    #[inline(always)]
+    fn new(xs: &[i64; 3], ys: &[i64; 3], origin: (i64, i64), size: (i64, i64)) -> Option<Self> {
+        let guard = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
+        let box_limit = 4096;
+        if xs.iter().chain(ys).any(|c| c.abs() > guard)
+            || !(0..=box_limit).contains(&origin.0)
+            || !(0..=box_limit).contains(&origin.1)
+            || size.0 > box_limit
+            || size.1 > box_limit
+        {
+            return None;
+        }
+        let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
+        let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
+        let area2 = dx1 * dy2 - dx2 * dy1;
+        if area2 == 0 || size.0 < 1 || size.1 < 1 {
+            return None;
+        }
+        let sign = area2.signum();
+        let area2 = area2.abs();
+        let half = 1i64 << (SUBPIXEL_BITS - 1);
+        let u0 = (origin.0 << SUBPIXEL_BITS) + half - xs[0];
+        let v0 = (origin.1 << SUBPIXEL_BITS) + half - ys[0];
+        let p = bits_above(size.0);
+        let q = bits_above(size.1);
+        // s * area2 = (x - x0) dy2 - (y - y0) dx2 with x = 16 (x0 + u 2^p) + 8 ...;
+        // [value at the origin, change over u in [0, 1], change over v in [0, 1]].
+        // One reciprocal of the area for the six plane coefficients.
+        let reciprocal = Reciprocal::new(area2 as u64);
         let scale = SUBPIXEL_BITS + BARYCENTRIC_BITS;
-        [
-            reciprocal.mul_div_round(sign * n0, BARYCENTRIC_BITS),
-            reciprocal.mul_div_round(sign * nx, scale + p),
-            reciprocal.mul_div_round(sign * ny, scale + q),
-        ]
-    };
-    let [s0, su, sv] = plane(u0 * dy2 - v0 * dx2, dy2, -dx2);
-    let [t0, tu, tv] = plane(dx1 * v0 - dy1 * u0, -dy1, dx1);
-    if s0.abs() + su.abs() + sv.abs() >= BARYCENTRIC_LIMIT
-        || t0.abs() + tu.abs() + tv.abs() >= BARYCENTRIC_LIMIT
-    {
-        return None;
+        let at = |n: i64, extra: u32| reciprocal.mul_div_round(sign * n, extra);
+        let (s0, su, sv) = (
+            at(u0 * dy2 - v0 * dx2, BARYCENTRIC_BITS),
+            at(dy2, scale + p),
+            at(-dx2, scale + q),
+        );
+        let (t0, tu, tv) = (
+            at(dx1 * v0 - dy1 * u0, BARYCENTRIC_BITS),
+            at(-dy1, scale + p),
+            at(dx1, scale + q),
+        );
+        if s0.abs() + su.abs() + sv.abs() >= BARYCENTRIC_LIMIT
+            || t0.abs() + tu.abs() + tv.abs() >= BARYCENTRIC_LIMIT
+        {
+            return None;
+        }
+        Some(FitBasis {
+            s: [s0, su, sv],
+            t: [t0, tu, tv],
+            shifts: [2 * p, 2 * q, p + q, p, q, 0],
+            // Boxes up to NARROW_QUADRATIC_BOX get coefficients in multiples of
+            // 2^8, which an `i32` walk can hold (`walks_in_i32`).
+            drop: if is_narrow_box(size) {
+                NARROW_QUADRATIC_DROPPED_BITS
+            } else {
+                0
+            },
+        })
     }
+
+    /// Whether every monomial mantissa fits `i32`: with both planes below
+    /// 2^25 over the box (barycentric coordinates below 32, nearly every
+    /// triangle) each is below 2^30 + 1, since `(|x| + |y|)^2 < 2^50` bounds
+    /// every product of two plane values and the mantissas drop 20 bits. The
+    /// weights then multiply them as 32 x 32-bit products, the same values
+    /// as the 32 x 64-bit ones.
+    #[inline(always)]
+    fn monomials_fit_i32(&self) -> bool {
+        let small = |p: &[i64; 3]| p[0].abs() + p[1].abs() + p[2].abs() < SMALL_BARYCENTRIC_LIMIT;
+        small(&self.s) && small(&self.t)
+    }
+}
+
+/// A monomial mantissa of the fit: `i64`, or `i32` when the planes are small
+/// enough for every mantissa to fit (then each product is one 32 x 32-bit
+/// multiplication).
+trait Monomial: Copy {
+    /// The mantissa `v` (within this type's range).
+    fn from_mantissa(v: i64) -> Self;
+    /// `w m` for a weight `w` below 2^20.
+    fn weighted(self, w: i64) -> i64;
+}
+
+impl Monomial for i64 {
+    #[inline(always)]
+    fn from_mantissa(v: i64) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn weighted(self, w: i64) -> i64 {
+        w as i32 as i64 * self
+    }
+}
+
+impl Monomial for i32 {
+    #[inline(always)]
+    fn from_mantissa(v: i64) -> Self {
+        v as i32
+    }
+    #[inline(always)]
+    fn weighted(self, w: i64) -> i64 {
+        w as i32 as i64 * self as i64
+    }
+}
+
+/// The three channels' polynomials from the monomials `[ss, tt, st]`
+/// (coefficients of `[u², v², uv, u, v, 1]` of `s²`, `t²` and `s t`).
+/// Straight-line code, one channel after the other: with no branch between
+/// them the compiler keeps each `i32` monomial's products 32 x 32-bit.
+#[inline(always)]
+fn fit_channels<T: Monomial>(
+    basis: &FitBasis,
+    samples: &QuadraticSamples,
+) -> [QuadraticPolynomial; 3] {
+    let [s0, su, sv] = basis.s;
+    let [t0, tu, tv] = basis.t;
     // Monomials over the normalized box, coefficients of [u², v², uv, u, v, 1], Q20.
-    let m = |x: i64, y: i64| mul2_q20(x, y, 0, 0);
+    let m = |x: i64, y: i64| T::from_mantissa(mul2_q20(x, y, 0, 0));
+    let m2 = |x: i64, y: i64, z: i64, w: i64| T::from_mantissa(mul2_q20(x, y, z, w));
     let ss = [
         m(su, su),
         m(sv, sv),
@@ -276,72 +382,101 @@ pub fn fit_quadratic(
     let st = [
         m(su, tu),
         m(sv, tv),
-        mul2_q20(su, tv, sv, tu),
-        mul2_q20(s0, tu, t0, su),
-        mul2_q20(s0, tv, t0, sv),
+        m2(su, tv, sv, tu),
+        m2(s0, tu, t0, su),
+        m2(s0, tv, t0, sv),
         m(s0, t0),
     ];
-    // Boxes up to NARROW_QUADRATIC_BOX get coefficients in multiples of 2^8,
-    // which an `i32` walk can hold (`walks_in_i32`).
-    let drop = if is_narrow_box(size) {
-        NARROW_QUADRATIC_DROPPED_BITS
-    } else {
-        0
-    };
-    let low_mask = (1i64 << drop) - 1;
-    // One channel at a time, straight-line: the six coefficients of channel
-    // `ch` from its Q8 weights and the shared monomials.
-    let mut fitted = [QuadraticPolynomial::default(); 3];
-    for (ch, out) in fitted.iter_mut().enumerate() {
-        let sample = |v: &ColorQ8| (v[ch] as i64).clamp(0, SAMPLE_MAX);
-        let (c0, c1, c2) = (
-            sample(&samples.vertices[0]),
-            sample(&samples.vertices[1]),
-            sample(&samples.vertices[2]),
-        );
-        let (m01, m12, m20) = (
-            sample(&samples.midpoints[0]),
-            sample(&samples.midpoints[1]),
-            sample(&samples.midpoints[2]),
-        );
-        let alpha = 2 * (c0 + c1 - 2 * m01);
-        let beta = 2 * (c0 + c2 - 2 * m20);
-        let gamma = 4 * (c0 + m12 - m01 - m20);
-        let delta = 4 * m01 - 3 * c0 - c1;
-        let epsilon = 4 * m20 - 3 * c0 - c2;
-        // The weights fit 20 bits: 32 x 64-bit products with the monomials,
-        // 32 x 32-bit ones with the barycentric planes (below 2^30, checked
-        // above).
-        let times = |w: i64, m: i64| w as i32 as i64 * m;
-        let linear = |w: i64, s: i64| w as i32 as i64 * s as i32 as i64;
-        let quadratic = |k: usize| times(alpha, ss[k]) + times(beta, tt[k]) + times(gamma, st[k]);
-        // Q8 weights times Q20 mantissas: Q28 over the normalized box; the
-        // powers of u = i / 2^p and v = j / 2^q become shifts. On a small box
-        // the coefficients are rounded to multiples of 2^8 (see `drop`): the
-        // value over 2^(n + drop) rounded to nearest (halves up), times
-        // 2^drop, with one shift (the quotient by 2^n, floored, then its low
-        // `drop` bits cleared).
-        let round = |v: i64, n: u32| {
-            let total = n + drop;
-            if total == 0 {
-                v
-            } else {
-                ((v + (1 << (total - 1))) >> n) & !low_mask
-            }
-        };
-        *out = QuadraticPolynomial {
-            a: round(quadratic(0), 2 * p),
-            b: round(quadratic(1), 2 * q),
-            c: round(quadratic(2), p + q),
-            d: round(quadratic(3) + linear(delta, su) + linear(epsilon, tu), p),
-            e: round(quadratic(4) + linear(delta, sv) + linear(epsilon, tv), q),
-            f: round(
-                quadratic(5) + linear(delta, s0) + linear(epsilon, t0) + (c0 << BARYCENTRIC_BITS),
-                0,
-            ),
-        };
+    let monomials = &[ss, tt, st];
+    // Q8 weights times Q20 mantissas: Q28 over the normalized box; the powers
+    // of u = i / 2^p and v = j / 2^q become shifts by `n` (below 32). On a
+    // small box the coefficients are rounded to multiples of 2^8 (see
+    // `drop`): the value over 2^(n + drop) rounded to nearest (halves up),
+    // times 2^drop, with one shift (the quotient by 2^n, floored, then its
+    // low `drop` bits cleared).
+    // `n + drop` is at most 26 (boxes up to 4096 pixels, 2^8 dropped only
+    // up to 128): the halves fit 32 bits.
+    let half = |k: usize| ((1u32 << (basis.shifts[k] + basis.drop)) >> 1) as i64;
+    let halves = [half(0), half(1), half(2), half(3), half(4), half(5)];
+    let kept = !((1i64 << basis.drop) - 1);
+    let round = |v: i64, k: usize| ((v + halves[k]) >> (basis.shifts[k] & 31)) & kept;
+    let channel =
+        |ch: usize| fit_channel(&ChannelWeights::of(samples, ch), basis, monomials, &round);
+    [channel(0), channel(1), channel(2)]
+}
+
+/// One channel's polynomial from its weights and the shared monomials,
+/// coefficients rounded by `round` (the value and the coefficient's index).
+#[inline(always)]
+fn fit_channel<T: Monomial>(
+    w: &ChannelWeights,
+    basis: &FitBasis,
+    [ss, tt, st]: &[[T; 6]; 3],
+    round: &impl Fn(i64, usize) -> i64,
+) -> QuadraticPolynomial {
+    let [s0, su, sv] = basis.s;
+    let [t0, tu, tv] = basis.t;
+    // The weights fit 20 bits: 32 x 64-bit (or 32 x 32-bit) products with
+    // the monomials, 32 x 32-bit ones with the barycentric planes (below
+    // 2^30, checked above).
+    #[inline(always)]
+    fn linear(w: i64, s: i64) -> i64 {
+        w as i32 as i64 * s as i32 as i64
     }
-    Some(fitted)
+    #[inline(always)]
+    fn quadratic<T: Monomial>(w: &ChannelWeights, s: T, t: T, st: T) -> i64 {
+        s.weighted(w.alpha) + t.weighted(w.beta) + st.weighted(w.gamma)
+    }
+    QuadraticPolynomial {
+        a: round(quadratic(w, ss[0], tt[0], st[0]), 0),
+        b: round(quadratic(w, ss[1], tt[1], st[1]), 1),
+        c: round(quadratic(w, ss[2], tt[2], st[2]), 2),
+        d: round(
+            quadratic(w, ss[3], tt[3], st[3]) + linear(w.delta, su) + linear(w.epsilon, tu),
+            3,
+        ),
+        e: round(
+            quadratic(w, ss[4], tt[4], st[4]) + linear(w.delta, sv) + linear(w.epsilon, tv),
+            4,
+        ),
+        f: round(
+            quadratic(w, ss[5], tt[5], st[5])
+                + linear(w.delta, s0)
+                + linear(w.epsilon, t0)
+                + (w.c0 << BARYCENTRIC_BITS),
+            5,
+        ),
+    }
+}
+
+/// One channel's weights of the fit, from its six samples (Q8, clamped to
+/// `[0, 255]`): `|α|, |β|, |δ|, |ε| < 2^18`, `|γ| < 2^19`.
+struct ChannelWeights {
+    alpha: i64,
+    beta: i64,
+    gamma: i64,
+    delta: i64,
+    epsilon: i64,
+    c0: i64,
+}
+
+impl ChannelWeights {
+    #[inline(always)]
+    fn of(samples: &QuadraticSamples, ch: usize) -> Self {
+        let sample = |v: &ColorQ8| (v[ch] as i64).clamp(0, SAMPLE_MAX);
+        let [v0, v1, v2] = &samples.vertices;
+        let [v01, v12, v20] = &samples.midpoints;
+        let (c0, c1, c2) = (sample(v0), sample(v1), sample(v2));
+        let (m01, m12, m20) = (sample(v01), sample(v12), sample(v20));
+        Self {
+            alpha: 2 * (c0 + c1 - 2 * m01),
+            beta: 2 * (c0 + c2 - 2 * m20),
+            gamma: 4 * (c0 + m12 - m01 - m20),
+            delta: 4 * m01 - 3 * c0 - c1,
+            epsilon: 4 * m20 - 3 * c0 - c2,
+            c0,
+        }
+    }
 }
 
 /// `1 / sqrt(x)` for `x` in `[1, 4)` (Q28), Q30: a table at the centers of 48
@@ -1090,6 +1225,45 @@ mod tests {
         assert!(fitted > 19_000, "only {fitted} triangles fitted");
         // The stated bound: within 1/16 of an 8-bit step (analysis: below 0.06).
         assert!(worst < 1.0 / 16.0, "worst deviation {worst} steps");
+    }
+
+    #[test]
+    fn i32_monomials_give_the_i64_fit() {
+        // Any triangle whose planes pass `monomials_fit_i32`, slivers up to
+        // the bound included, fits to the same bits with 32-bit monomials.
+        let mut rng = Rng(0x5eed_0f17_32b1_7500);
+        let (mut compared, mut near_bound) = (0, 0);
+        for n in 0..40_000 {
+            let (w, h) = if n % 2 == 0 { (128, 128) } else { (2048, 2048) };
+            let mut xs = [0; 3].map(|_| rng.range(0, w * 16 - 1));
+            let mut ys = [0; 3].map(|_| rng.range(0, h * 16 - 1));
+            if n % 4 < 2 {
+                // A sliver: the third corner close to the line of the others.
+                let t = rng.range(0, 256);
+                xs[2] = xs[0] + (xs[1] - xs[0]) * t / 256 + rng.range(-2, 2);
+                ys[2] = ys[0] + (ys[1] - ys[0]) * t / 256 + rng.range(-2, 2);
+            }
+            let Some((origin, size)) = bounding_box(&xs, &ys, w, h) else {
+                continue;
+            };
+            let Some(basis) = FitBasis::new(&xs, &ys, origin, size) else {
+                continue;
+            };
+            if !basis.monomials_fit_i32() {
+                continue;
+            }
+            let sum = |p: &[i64; 3]| p.iter().map(|v| v.abs()).sum::<i64>();
+            near_bound += (sum(&basis.s).max(sum(&basis.t)) >= SMALL_BARYCENTRIC_LIMIT / 4) as u32;
+            let samples = random_samples(&mut rng);
+            assert_eq!(
+                fit_channels::<i32>(&basis, &samples),
+                fit_channels::<i64>(&basis, &samples),
+                "{xs:?} {ys:?}"
+            );
+            compared += 1;
+        }
+        assert!(compared > 15_000, "{compared}");
+        assert!(near_bound > 20, "{near_bound}");
     }
 
     #[test]
