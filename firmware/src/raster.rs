@@ -230,11 +230,9 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
         (y_first - setup.y0) as i64,
         (y_last - setup.y0) as i64,
     );
-    let corner = |i: i64, j: i64| d.origin + i * d.dx + j * d.dy;
-    let nearest = corner(0, j0)
-        .min(corner(i1, j0))
-        .min(corner(0, j1))
-        .min(corner(i1, j1));
+    // The plane's smallest value over the box's corners: its steps in x and
+    // in y are independent, so the smaller end in each.
+    let nearest = d.origin + (i1 * d.dx).min(0) + (j0 * d.dy).min(j1 * d.dy);
     let bound = 16 * fragment_depth(nearest) as i64 - sample_reach::<M>(setup);
     if buffer.hides_columns(setup.x0, setup.x1, bound) {
         buffer.count_triangle_test(0, true);
