@@ -22,6 +22,7 @@ use crate::coverage::CoverageMask;
 use crate::fragment::{fragment_depth, Fragment};
 use crate::setup::{ColorPlanes, Edge, TriangleSetup};
 use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, PhongWalk, QuadraticWalk};
+use core::marker::PhantomData;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// Samples where one edge function (value `e` at the pixel center, already biased)
@@ -396,6 +397,7 @@ where
     F: FnOnce() -> ColorPlanes,
 {
     let edges = EdgeWalk::<M, E>::new(setup);
+    let tables = edge_tables::<M>(setup);
     // Probing needs no color: the walk of a constant costs nothing.
     let mut no_color = ConstantWalk(Rgb888::new(0, 0, 0));
     let mut probe = Probe {
@@ -404,15 +406,22 @@ where
         buffer: &mut *buffer,
     };
     let first = edges.first_row(setup, rows.first);
-    let Some(start) = walk_pixels(setup, &edges, rows.last, first, &mut no_color, &mut probe)
-    else {
+    let Some(start) = walk_pixels(
+        setup,
+        &edges,
+        &tables,
+        rows.last,
+        first,
+        &mut no_color,
+        &mut probe,
+    ) else {
         return;
     };
     // One loop per kind of color, so the per-pixel work has no branch on it.
     let j = (start.y - setup.y0) as i64;
     macro_rules! insert_with {
         ($walk:expr) => {
-            insert_from::<M, B, E, _>(setup, &edges, rows, start, $walk, buffer)
+            insert_from::<M, B, E, _>(setup, &edges, &tables, rows, start, $walk, buffer)
         };
     }
     match colors() {
@@ -437,6 +446,7 @@ where
 fn insert_from<M, B, E, W>(
     setup: &TriangleSetup,
     edges: &EdgeWalk<M, E>,
+    tables: &EdgeTables<M>,
     rows: RowRange,
     start: WalkStart<E>,
     mut walk: W,
@@ -452,20 +462,38 @@ fn insert_from<M, B, E, W>(
         band_y0: rows.band_y0,
         buffer,
     };
-    walk_pixels(setup, edges, rows.last, start, &mut walk, &mut insert);
+    walk_pixels(
+        setup,
+        edges,
+        tables,
+        rows.last,
+        start,
+        &mut walk,
+        &mut insert,
+    );
 }
 
-/// What the pixel walks of one triangle in one band share: per edge its
-/// steps per pixel in x and y, the margin beyond which a pixel needs no look
-/// at its samples (the edge's largest change from the center to a sample),
-/// and the mask grid's tables.
+/// What the row walks of one triangle in one band share: per edge its
+/// steps per pixel in x and y and the margin beyond which a pixel needs no
+/// look at its samples (the edge's largest change from the center to a
+/// sample). The masks' tables ([`EdgeTables`]) come apart: the whole-band
+/// test walks the rows without them.
 struct EdgeWalk<M: CoverageMask, E> {
     margin: [E; 3],
     step_x: [E; 3],
     step_y: [E; 3],
-    samples: [M::EdgeSamples; 3],
     /// Columns of the bounding box.
     columns: i64,
+    grid: PhantomData<M>,
+}
+
+/// The mask grid's tables of a triangle's three edges.
+type EdgeTables<M> = [<M as CoverageMask>::EdgeSamples; 3];
+
+/// The mask grid's tables of `setup`'s edges.
+#[inline(always)]
+fn edge_tables<M: CoverageMask>(setup: &TriangleSetup) -> EdgeTables<M> {
+    setup.edges.map(|e| M::edge_samples(e.a, e.b))
 }
 
 impl<M: CoverageMask, E: EdgeValue> EdgeWalk<M, E> {
@@ -480,8 +508,8 @@ impl<M: CoverageMask, E: EdgeValue> EdgeWalk<M, E> {
             }),
             step_x: setup.edges.map(|e| E::from_i64((e.a as i64) << 4)),
             step_y: setup.edges.map(|e| E::from_i64((e.b as i64) << 4)),
-            samples: setup.edges.map(|e| M::edge_samples(e.a, e.b)),
             columns: (setup.x1 - setup.x0) as i64 + 1,
+            grid: PhantomData,
         }
     }
 
@@ -611,7 +639,8 @@ fn row_span<E: EdgeValue>(
     }
 }
 
-/// Visits the pixels of `setup` with a non-empty mask from `start` to the end
+/// Visits the pixels of `setup` with a non-empty mask (from the edges' `tables`)
+/// from `start` to the end
 /// of image row `y_last`, rows top to bottom and left to right, calling
 /// `visitor.visit(x, y, mask, depth, color)` (depth with 16 extra fraction
 /// bits, color from `walk`, which starts positioned at the first column of
@@ -627,6 +656,7 @@ fn row_span<E: EdgeValue>(
 fn walk_pixels<M, E, W, V>(
     setup: &TriangleSetup,
     edges: &EdgeWalk<M, E>,
+    tables: &EdgeTables<M>,
     y_last: u16,
     start: WalkStart<E>,
     walk: &mut W,
@@ -680,9 +710,7 @@ where
                         core::array::from_fn(|i| e[i] + edges.step_x[i].times($from));
                     let (mut k, to) = ($from as i32, $to as i32);
                     while k < to {
-                        if let Some(mask) =
-                            pixel_coverage::<M, E>(&at, &edges.samples, &edges.margin)
-                        {
+                        if let Some(mask) = pixel_coverage::<M, E>(&at, tables, &edges.margin) {
                             if !mask.is_empty()
                                 && visitor.visit((x0 + k) as u16, row, mask, z, walk.color(&color))
                             {
