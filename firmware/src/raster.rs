@@ -639,12 +639,11 @@ fn row_span<E: EdgeValue>(
     }
 }
 
-/// Visits the pixels of `setup` with a non-empty mask (from the edges' `tables`)
-/// from `start` to the end
-/// of image row `y_last`, rows top to bottom and left to right, calling
-/// `visitor.visit(x, y, mask, depth, color)` (depth with 16 extra fraction
-/// bits, color from `walk`, which starts positioned at the first column of
-/// `start`'s row). When it returns `true` the walk stops and returns where,
+/// Visits the pixels of `setup` with a non-empty mask (from the edges'
+/// `tables`) from `start` to the end of image row `y_last`, rows top to
+/// bottom and left to right, calling `visitor.visit(x, y, mask, depth,
+/// color)` (depth with 16 extra fraction bits, color from `walk`, which
+/// starts positioned at the first column of `start`'s row). When it returns `true` the walk stops and returns where,
 /// so that another walk can go on from that pixel (included).
 ///
 /// Per row, [`row_span`] finds the pixels no edge rules out (every edge value
