@@ -643,8 +643,9 @@ fn row_span<E: EdgeValue>(
 /// `tables`) from `start` to the end of image row `y_last`, rows top to
 /// bottom and left to right, calling `visitor.visit(x, y, mask, depth,
 /// color)` (depth with 16 extra fraction bits, color from `walk`, which
-/// starts positioned at the first column of `start`'s row). When it returns `true` the walk stops and returns where,
-/// so that another walk can go on from that pixel (included).
+/// starts positioned at the first column of `start`'s row). When it returns
+/// `true` the walk stops and returns where, so that another walk can go on
+/// from that pixel (included).
 ///
 /// Per row, [`row_span`] finds the pixels no edge rules out (every edge value
 /// at the center at least minus its margin: a convex set, so one run per row)

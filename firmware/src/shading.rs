@@ -420,7 +420,7 @@ fn fit_channel<T: Monomial>(
     let [t0, tu, tv] = basis.t;
     // The weights fit 20 bits: 32 x 64-bit (or 32 x 32-bit) products with
     // the monomials, 32 x 32-bit ones with the barycentric planes (below
-    // 2^30, checked above).
+    // 2^30, checked in `FitBasis::new`).
     #[inline(always)]
     fn linear(w: i64, s: i64) -> i64 {
         w as i32 as i64 * s as i32 as i64
