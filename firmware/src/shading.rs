@@ -236,6 +236,8 @@ pub fn fit_quadratic(
 struct FitBasis {
     s: [i64; 3],
     t: [i64; 3],
+    /// The larger of `|s0| + |su| + |sv|` and the same sum for `t`.
+    extent: i64,
     shifts: [u32; 6],
     drop: u32,
 }
@@ -285,14 +287,14 @@ impl FitBasis {
             at(-dy1, scale + p),
             at(dx1, scale + q),
         );
-        if s0.abs() + su.abs() + sv.abs() >= BARYCENTRIC_LIMIT
-            || t0.abs() + tu.abs() + tv.abs() >= BARYCENTRIC_LIMIT
-        {
+        let extent = (s0.abs() + su.abs() + sv.abs()).max(t0.abs() + tu.abs() + tv.abs());
+        if extent >= BARYCENTRIC_LIMIT {
             return None;
         }
         Some(FitBasis {
             s: [s0, su, sv],
             t: [t0, tu, tv],
+            extent,
             shifts: [2 * p, 2 * q, p + q, p, q, 0],
             // Boxes up to NARROW_QUADRATIC_BOX get coefficients in multiples of
             // 2^8, which an `i32` walk can hold (`walks_in_i32`).
@@ -312,8 +314,7 @@ impl FitBasis {
     /// as the 32 x 64-bit ones.
     #[inline(always)]
     fn monomials_fit_i32(&self) -> bool {
-        let small = |p: &[i64; 3]| p[0].abs() + p[1].abs() + p[2].abs() < SMALL_BARYCENTRIC_LIMIT;
-        small(&self.s) && small(&self.t)
+        self.extent < SMALL_BARYCENTRIC_LIMIT
     }
 }
 
@@ -1254,8 +1255,7 @@ mod tests {
             if !basis.monomials_fit_i32() {
                 continue;
             }
-            let sum = |p: &[i64; 3]| p.iter().map(|v| v.abs()).sum::<i64>();
-            near_bound += (sum(&basis.s).max(sum(&basis.t)) >= SMALL_BARYCENTRIC_LIMIT / 4) as u32;
+            near_bound += (basis.extent >= SMALL_BARYCENTRIC_LIMIT / 4) as u32;
             let samples = random_samples(&mut rng);
             assert_eq!(
                 fit_channels::<i32>(&basis, &samples),
