@@ -1,9 +1,10 @@
 //! The interface between the rasterizer and the per-band pixel memory.
 
 use crate::coverage::CoverageMask;
-use crate::fragment::Fragment;
+use crate::fragment::{fragment_depth, Fragment};
 use crate::raster::{hidden_in_band, rasterize};
 use crate::setup::{ColorPlanes, Rejection, SetupVertex, TriangleSetup};
+use crate::shading::ColorWalk;
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -104,6 +105,25 @@ pub trait BandBuffer<M: CoverageMask> {
     }
     /// Adds the fragment of one triangle at column `x`, band row `row`.
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>);
+    /// Adds the fragments of one triangle in `run.len` pixels of band row
+    /// `row` from column `x` on, each covering its whole pixel, their colors
+    /// from `walk` (at `color`, which is left `run.len` steps on). The same
+    /// as [`BandBuffer::insert`] pixel by pixel, which the default does; a
+    /// buffer with a faster loop for whole pixels gives the same result its
+    /// own way.
+    #[inline(always)]
+    fn insert_full_run<W: ColorWalk>(
+        &mut self,
+        x: u16,
+        row: u16,
+        run: &FullRun<M>,
+        walk: &W,
+        color: &mut W::Row,
+    ) where
+        Self: Sized,
+    {
+        insert_each(self, x, row, run, walk, color)
+    }
     /// Resolves band row `row` into colors, `background` where nothing covers.
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]);
     /// Ends the band after its rows are resolved: shared memory (the pool) is released.
@@ -114,6 +134,48 @@ pub trait BandBuffer<M: CoverageMask> {
     fn stats(&self) -> BufferStats;
     /// Returns the counters and zeroes them.
     fn take_stats(&mut self) -> BufferStats;
+}
+
+/// A run of pixels along one row that a triangle covers wholly: what
+/// [`BandBuffer::insert_full_run`] inserts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FullRun<M: CoverageMask> {
+    /// Pixels in the run.
+    pub len: u16,
+    /// The triangle's depth plane at the first pixel's center, with
+    /// [`crate::fragment::PLANE_EXTRA_BITS`] extra fraction bits
+    /// ([`crate::setup::Plane`]).
+    pub depth: i64,
+    /// The plane's step per pixel, in the same units.
+    pub depth_step: i64,
+    /// The fragments' depth gradients, full mask and (unused) color: what
+    /// every fragment of the run has besides its depth and color.
+    pub template: Fragment<M>,
+}
+
+/// [`BandBuffer::insert_full_run`] pixel by pixel, as its default does;
+/// buffers that override it fall back on this where their loop does not
+/// apply.
+#[inline(always)]
+pub fn insert_each<M: CoverageMask, B: BandBuffer<M>, W: ColorWalk>(
+    buffer: &mut B,
+    x: u16,
+    row: u16,
+    run: &FullRun<M>,
+    walk: &W,
+    color: &mut W::Row,
+) {
+    let mut depth = run.depth;
+    for k in 0..run.len {
+        let fragment = Fragment {
+            z: fragment_depth(depth),
+            color: walk.color(color),
+            ..run.template
+        };
+        buffer.insert(x + k, row, &fragment);
+        walk.step(color);
+        depth += run.depth_step;
+    }
 }
 
 /// What [`BandBuffer::draw_triangle`] does by default: sets the triangle up,

@@ -38,12 +38,25 @@ impl<M: CoverageMask> Fragment<M> {
     }
 }
 
+/// Fraction bits of depth-plane values ([`crate::setup::Plane`]) beyond
+/// those of stored depths.
+pub const PLANE_EXTRA_BITS: u32 = 16;
+
+/// Whether the depth plane's value `plane` rounds to a depth in `0 ..=
+/// DEPTH_MAX`, where [`fragment_depth`] is the rounded value shifted down
+/// by [`PLANE_EXTRA_BITS`] and clamps nothing.
+#[inline(always)]
+pub fn depth_in_range(plane: i64) -> bool {
+    ((plane + (1 << (PLANE_EXTRA_BITS - 1))) as u64) < (DEPTH_MAX as u64 + 1) << PLANE_EXTRA_BITS
+}
+
 /// The depth a fragment stores for a depth-plane value `plane` at its pixel
-/// center (depth units with 16 extra fraction bits, [`crate::setup::Plane`]):
-/// rounded to nearest and clamped to `0 ..= DEPTH_MAX`.
+/// center (depth units with [`PLANE_EXTRA_BITS`] extra fraction bits,
+/// [`crate::setup::Plane`]): rounded to nearest and clamped to `0 ..=
+/// DEPTH_MAX`.
 #[inline(always)]
 pub fn fragment_depth(plane: i64) -> u32 {
-    const _: () = assert!(DEPTH_MAX == (1 << 24) - 1);
+    const _: () = assert!(DEPTH_MAX == (1 << 24) - 1 && PLANE_EXTRA_BITS == 16);
     let rounded = plane + (1 << 15);
     // The depth is in range exactly when the high word is below 2^8: one
     // comparison in the common case.

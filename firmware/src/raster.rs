@@ -17,7 +17,7 @@
 //! away that the buffer already hides in the whole band is skipped before any
 //! fragment ([`hidden_in_band`]).
 
-use crate::band_buffer::BandBuffer;
+use crate::band_buffer::{BandBuffer, FullRun};
 use crate::coverage::CoverageMask;
 use crate::fragment::{fragment_depth, Fragment};
 use crate::setup::{ColorPlanes, Edge, TriangleSetup};
@@ -457,6 +457,11 @@ fn insert_from<M, B, E, W>(
     E: EdgeValue,
     W: ColorWalk,
 {
+    if M::SAMPLES == 1 {
+        // One sample at the center: every pixel a row touches is covered
+        // whole, and each row is one run for the buffer.
+        return insert_full_rows(setup, edges, rows, start, walk, buffer);
+    }
     let mut insert = Insert {
         setup,
         band_y0: rows.band_y0,
@@ -471,6 +476,53 @@ fn insert_from<M, B, E, W>(
         &mut walk,
         &mut insert,
     );
+}
+
+/// [`insert_from`] for one sample per pixel: each row's pixels from `start`
+/// on go to the buffer as one run ([`BandBuffer::insert_full_run`]).
+#[inline(always)]
+fn insert_full_rows<M, B, E, W>(
+    setup: &TriangleSetup,
+    edges: &EdgeWalk<M, E>,
+    rows: RowRange,
+    start: WalkStart<E>,
+    mut walk: W,
+    buffer: &mut B,
+) where
+    M: CoverageMask,
+    B: BandBuffer<M>,
+    E: EdgeValue,
+    W: ColorWalk,
+{
+    let template = fragment_at(setup, M::FULL, 0, Rgb888::new(0, 0, 0));
+    let WalkStart {
+        mut e_row,
+        mut z_row,
+        mut span,
+        y,
+    } = start;
+    let mut row = y - rows.band_y0;
+    let last = rows.last - rows.band_y0;
+    loop {
+        if span.start < span.end {
+            let mut color = walk.row();
+            walk.skip(&mut color, span.start as u16);
+            let run = FullRun {
+                len: (span.end - span.start) as u16,
+                depth: z_row + span.start * setup.depth.dx,
+                depth_step: setup.depth.dx,
+                template,
+            };
+            let x = setup.x0 + span.start as u16;
+            buffer.insert_full_run(x, row, &run, &walk, &mut color);
+        }
+        if row >= last {
+            return;
+        }
+        row += 1;
+        walk.next_row();
+        span = edges.next_row(setup, &mut e_row, &mut z_row);
+    }
 }
 
 /// What the row walks of one triangle in one band share: per edge its

@@ -1,8 +1,9 @@
 //! The plain z-buffer: one sample at the pixel center, no antialiasing.
 
-use crate::band_buffer::BandBuffer;
+use crate::band_buffer::{insert_each, BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, Mask1x1};
-use crate::fragment::Fragment;
+use crate::fragment::{depth_in_range, Fragment, PLANE_EXTRA_BITS};
+use crate::shading::ColorWalk;
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -109,6 +110,46 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         }
     }
 
+    /// One depth test and store per pixel, the run's slices checked once;
+    /// where the run's depths are in range (nearly always), a pixel's depth
+    /// is the rounded plane shifted down, with no clamp.
+    #[inline(always)]
+    fn insert_full_run<W: ColorWalk>(
+        &mut self,
+        x: u16,
+        row: u16,
+        run: &FullRun<Mask1x1>,
+        walk: &W,
+        color: &mut W::Row,
+    ) {
+        let start = row as usize * self.width as usize + x as usize;
+        let end = start + run.len as usize;
+        // The plane is linear: when both ends of the run round into range,
+        // every pixel between does.
+        let last = run.depth + (run.len as i64 - 1) * run.depth_step;
+        if end > self.depth.len() || !depth_in_range(run.depth) || !depth_in_range(last) {
+            return insert_each(self, x, row, run, walk, color);
+        }
+        let mut rounded = run.depth + (1 << (PLANE_EXTRA_BITS - 1));
+        let (mut stored, mut replaced) = (0u32, 0u32);
+        let depths = &mut self.depth[start..end];
+        let colors = &mut self.color[start..end];
+        for (stored_depth, stored_color) in depths.iter_mut().zip(colors) {
+            let z = (rounded >> PLANE_EXTRA_BITS) as u32;
+            if z <= *stored_depth {
+                replaced += (*stored_depth != EMPTY_DEPTH) as u32;
+                stored += 1;
+                *stored_depth = z;
+                *stored_color = walk.color(color);
+            }
+            walk.step(color);
+            rounded += run.depth_step;
+        }
+        self.stats.fragments_stored += stored;
+        self.stats.fragments_removed_hidden += replaced;
+        self.stats.fragments_hidden_on_arrival += run.len as u32 - stored;
+    }
+
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
         resolve_depth_row(self.depth, self.color, self.width, row, background, out);
     }
@@ -175,5 +216,103 @@ pub(crate) fn resolve_depth_row(
     let colors = &color[start..start + shown];
     for ((px, &z), &c) in out[..shown].iter_mut().zip(depths).zip(colors) {
         *px = if z == EMPTY_DEPTH { background } else { c };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::band_buffer::insert_each;
+    use crate::fixed_point::DEPTH_MAX;
+    use crate::setup::Plane;
+    use crate::shading::LinearWalk;
+
+    const WIDTH: u16 = 16;
+    const ROWS: u16 = 2;
+
+    /// The depth of pixel `i` in [`band_with_pattern`].
+    fn pattern_depth(i: usize) -> u32 {
+        if i.is_multiple_of(5) {
+            EMPTY_DEPTH
+        } else {
+            (i as u32).wrapping_mul(2_654_435_761) >> 8
+        }
+    }
+
+    /// A band with a pattern of empty and drawn pixels.
+    fn band_with_pattern<'a>(depth: &'a mut [u32], color: &'a mut [Rgb888]) -> ZBuffer<'a> {
+        for (i, (d, c)) in depth.iter_mut().zip(color.iter_mut()).enumerate() {
+            *d = pattern_depth(i);
+            *c = Rgb888::new(i as u8, 1, 2);
+        }
+        ZBuffer::new(WIDTH, ROWS, depth, color).unwrap()
+    }
+
+    /// Inserts `run` with the z-buffer's own loop and pixel by pixel, and
+    /// requires the same depths, colors, counters and color walk state.
+    fn same_as_pixel_by_pixel(x: u16, run: &FullRun<Mask1x1>) {
+        let n = (WIDTH * ROWS) as usize;
+        let (mut d1, mut c1) = (vec![0; n], vec![Rgb888::new(0, 0, 0); n]);
+        let (mut d2, mut c2) = (vec![0; n], vec![Rgb888::new(0, 0, 0); n]);
+        let mut fast = band_with_pattern(&mut d1, &mut c1);
+        let mut each = band_with_pattern(&mut d2, &mut c2);
+        let planes = [
+            Plane {
+                origin: 40 << 16,
+                dx: 9 << 16,
+                dy: 0,
+            },
+            Plane {
+                origin: 200 << 16,
+                dx: -7 << 16,
+                dy: 0,
+            },
+            Plane {
+                origin: 3 << 16,
+                dx: 1 << 15,
+                dy: 0,
+            },
+        ];
+        let walk = LinearWalk::<i32>::start(&planes, 0);
+        let (mut row1, mut row2) = (walk.row(), walk.row());
+        fast.insert_full_run(x, 1, run, &walk, &mut row1);
+        insert_each(&mut each, x, 1, run, &walk, &mut row2);
+        assert_eq!(row1, row2, "walk state after the run");
+        assert_eq!(fast.stats(), each.stats());
+        assert_eq!(d1, d2);
+        assert_eq!(c1, c2);
+    }
+
+    #[test]
+    fn full_runs_store_what_single_inserts_store() {
+        let template = Fragment {
+            mask: Mask1x1::FULL,
+            z: 0,
+            dzdx: 0,
+            dzdy: 0,
+            color: Rgb888::new(0, 0, 0),
+        };
+        let max = (DEPTH_MAX as i64) << 16;
+        for (depth, depth_step) in [
+            (max / 2, 1 << 20),
+            (max / 2, -(1 << 22)),
+            (0, 1 << 30),
+            // Ends out of range: the clamped path.
+            (-(1 << 20), 1 << 28),
+            (max - (1 << 20), 1 << 19),
+            (max, -(1 << 10)),
+            // Exactly the stored depth of row 1's pixel 3 (a tie).
+            ((pattern_depth(WIDTH as usize + 3) as i64) << 16, 0),
+        ] {
+            for (x, len) in [(0, 1), (0, WIDTH), (3, 7), (WIDTH - 2, 2)] {
+                let run = FullRun {
+                    len,
+                    depth,
+                    depth_step,
+                    template,
+                };
+                same_as_pixel_by_pixel(x, &run);
+            }
+        }
     }
 }

@@ -3,7 +3,7 @@
 use crate::convert::FixedScene;
 use abuffer_test_support::{render_rgb, FragmentStorage, OwnedWorkspace};
 use embedded_graphics_core::pixelcolor::Rgb888;
-use mcu_abuffer::band_buffer::{draw_in_band, BandBuffer, DrawParams, PoolUse};
+use mcu_abuffer::band_buffer::{draw_in_band, BandBuffer, DrawParams, FullRun, PoolUse};
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::Fragment;
@@ -13,6 +13,7 @@ use mcu_abuffer::pool::PoolAddress;
 use mcu_abuffer::renderer::FrameOptions;
 use mcu_abuffer::scene::Scene;
 use mcu_abuffer::setup::{Rejection, SetupVertex};
+use mcu_abuffer::shading::ColorWalk;
 use mcu_abuffer::stats::{BufferStats, FrameStats};
 use mcu_abuffer::zbuffer::ZBuffer;
 use mcu_abuffer::zbuffer_hiz::{tile_count, HierarchicalZBuffer, HizTile};
@@ -262,6 +263,19 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<B> {
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
         self.count(x, row);
         self.inner.insert(x, row, fragment)
+    }
+    fn insert_full_run<W: ColorWalk>(
+        &mut self,
+        x: u16,
+        row: u16,
+        run: &FullRun<M>,
+        walk: &W,
+        color: &mut W::Row,
+    ) {
+        for k in 0..run.len {
+            self.count(x + k, row);
+        }
+        self.inner.insert_full_run(x, row, run, walk, color)
     }
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
         self.inner.resolve_row(row, background, out)

@@ -235,6 +235,18 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
         self.inner.insert(x, row, fragment);
         self.ticks.insert += ticks() - t0;
     }
+    fn insert_full_run<W: mcu_abuffer::shading::ColorWalk>(
+        &mut self,
+        x: u16,
+        row: u16,
+        run: &mcu_abuffer::band_buffer::FullRun<M>,
+        walk: &W,
+        color: &mut W::Row,
+    ) {
+        let t0 = ticks();
+        self.inner.insert_full_run(x, row, run, walk, color);
+        self.ticks.insert += ticks() - t0;
+    }
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
         let t0 = ticks();
         self.inner.resolve_row(row, background, out);
