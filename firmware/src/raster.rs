@@ -47,11 +47,13 @@ trait EdgeValue:
     fn near(self) -> i32;
     /// `self * n` (the result is an edge value the walk reaches, so it fits).
     fn times(self, n: i64) -> Self;
-    /// The fewest steps of `step > 0` that take `value < target` to `target` or beyond.
-    fn steps_to_reach(value: Self, target: Self, step: Self) -> i64;
+    /// The fewest steps of `step > 0` that take `value < target` to `target`
+    /// or beyond (at most `2^30`: beyond any bounding box is as good as
+    /// further).
+    fn steps_to_reach(value: Self, target: Self, step: Self) -> i32;
     /// How many steps `k >= 0` of `step < 0` keep `value + k step >= limit`,
-    /// for `value >= limit`.
-    fn steps_above(value: Self, limit: Self, step: Self) -> i64;
+    /// for `value >= limit` (at most `2^30 + 1`, as above).
+    fn steps_above(value: Self, limit: Self, step: Self) -> i32;
 }
 
 impl EdgeValue for i32 {
@@ -69,14 +71,16 @@ impl EdgeValue for i32 {
         self * n as i32
     }
     #[inline]
-    fn steps_to_reach(value: Self, target: Self, step: Self) -> i64 {
-        // Both differences are below 2^31 in magnitude and positive here.
+    fn steps_to_reach(value: Self, target: Self, step: Self) -> i32 {
+        // Positive here and below 2^30 + 2^22 (edge values within ±2^30,
+        // margins below 2^22), and so are the quotients: they fit `i32`.
         let gap = (target - value) as u32;
-        gap.div_ceil(step as u32) as i64
+        gap.div_ceil(step as u32) as i32
     }
     #[inline]
-    fn steps_above(value: Self, limit: Self, step: Self) -> i64 {
-        ((value - limit) as u32 / step.unsigned_abs()) as i64 + 1
+    fn steps_above(value: Self, limit: Self, step: Self) -> i32 {
+        // As above: the quotient plus one stays below 2^31.
+        ((value - limit) as u32 / step.unsigned_abs()) as i32 + 1
     }
 }
 
@@ -95,12 +99,14 @@ impl EdgeValue for i64 {
         self * n
     }
     #[inline]
-    fn steps_to_reach(value: Self, target: Self, step: Self) -> i64 {
-        ((target - value) as u64).div_ceil(step as u64) as i64
+    fn steps_to_reach(value: Self, target: Self, step: Self) -> i32 {
+        // Beyond any bounding box (2^16 columns at most) is as good as
+        // further.
+        ((target - value) as u64).div_ceil(step as u64).min(1 << 30) as i32
     }
     #[inline]
-    fn steps_above(value: Self, limit: Self, step: Self) -> i64 {
-        ((value - limit) as u64 / step.unsigned_abs()) as i64 + 1
+    fn steps_above(value: Self, limit: Self, step: Self) -> i32 {
+        ((value - limit) as u64 / step.unsigned_abs()).min(1 << 30) as i32 + 1
     }
 }
 
@@ -302,7 +308,7 @@ where
     let mut y = rows.first;
     loop {
         let row = y - rows.band_y0;
-        let mut z = z_row + span.start * dz;
+        let mut z = z_row + span.start as i64 * dz;
         for k in span.start..span.end {
             asked += 1;
             let bound = 16 * fragment_depth(z) as i64 - reach;
@@ -509,7 +515,7 @@ fn insert_full_rows<M, B, E, W>(
             walk.skip(&mut color, span.start as u16);
             let run = FullRun {
                 len: (span.end - span.start) as u16,
-                depth: z_row + span.start * setup.depth.dx,
+                depth: z_row + span.start as i64 * setup.depth.dx,
                 depth_step: setup.depth.dx,
                 template,
             };
@@ -535,7 +541,7 @@ struct EdgeWalk<M: CoverageMask, E> {
     step_x: [E; 3],
     step_y: [E; 3],
     /// Columns of the bounding box.
-    columns: i64,
+    columns: i32,
     grid: PhantomData<M>,
 }
 
@@ -560,7 +566,7 @@ impl<M: CoverageMask, E: EdgeValue> EdgeWalk<M, E> {
             }),
             step_x: setup.edges.map(|e| E::from_i64((e.a as i64) << 4)),
             step_y: setup.edges.map(|e| E::from_i64((e.b as i64) << 4)),
-            columns: (setup.x1 - setup.x0) as i64 + 1,
+            columns: (setup.x1 - setup.x0) as i32 + 1,
             grid: PhantomData,
         }
     }
@@ -615,10 +621,10 @@ struct WalkStart<E> {
 /// clears by its margin (full masks, no per-sample work).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct RowSpan {
-    start: i64,
-    full_start: i64,
-    full_end: i64,
-    end: i64,
+    start: i32,
+    full_start: i32,
+    full_end: i32,
+    end: i32,
 }
 
 /// The span of the row whose first pixel has edge values `e`, for a bounding
@@ -634,10 +640,10 @@ fn row_span<E: EdgeValue>(
     e: &[E; 3],
     step_x: &[E; 3],
     margin: &[E; 3],
-    columns: i64,
+    columns: i32,
     one_sample: bool,
 ) -> RowSpan {
-    let (mut start, mut end) = (0i64, columns);
+    let (mut start, mut end) = (0i32, columns);
     for i in 0..3 {
         let (v, s, m) = (e[i], step_x[i], margin[i]);
         if s > E::ZERO {
@@ -738,10 +744,9 @@ where
             let e = e_row;
             let mut color = walk.row();
             walk.skip(&mut color, span.start as u16);
-            let mut z = z_row + span.start * dz;
+            let mut z = z_row + span.start as i64 * dz;
             // Where to go on from column `k` (counted from the box's first).
             let stop = |k: i32| {
-                let k = k as i64;
                 let full_start = span.full_start.max(k);
                 Some(WalkStart {
                     y: row,
@@ -759,8 +764,8 @@ where
             macro_rules! edge_pixels {
                 ($from:expr, $to:expr) => {
                     let mut at: [E; 3] =
-                        core::array::from_fn(|i| e[i] + edges.step_x[i].times($from));
-                    let (mut k, to) = ($from as i32, $to as i32);
+                        core::array::from_fn(|i| e[i] + edges.step_x[i].times($from as i64));
+                    let (mut k, to) = ($from, $to);
                     while k < to {
                         if let Some(mask) = pixel_coverage::<M, E>(&at, tables, &edges.margin) {
                             if !mask.is_empty()
@@ -780,7 +785,7 @@ where
             }
             edge_pixels!(span.start, span.full_start);
             // The interior: full masks.
-            let (mut k, to) = (span.full_start as i32, span.full_end as i32);
+            let (mut k, to) = (span.full_start, span.full_end);
             while k < to {
                 if visitor.visit((x0 + k) as u16, row, M::FULL, z, walk.color(&color)) {
                     return stop(k);
