@@ -202,6 +202,9 @@ pub(crate) fn depth_test_and_store(
 
 /// Row `row` of a depth and color band `width` pixels wide into `out`: a pixel's
 /// color, or `background` where nothing was drawn. Shared by the z-buffer variants.
+// Out of line: inlined into the frame loop, its loop reloads what the
+// registers there cannot hold.
+#[inline(never)]
 pub(crate) fn resolve_depth_row(
     depth: &[u32],
     color: &[Rgb888],
