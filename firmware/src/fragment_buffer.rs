@@ -829,6 +829,9 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         self.insert_into_list(x, p, fragment);
     }
 
+    // Out of line, as the z-buffer's: inlined into the frame loop, the
+    // row's loop reloads what the registers there cannot hold.
+    #[inline(never)]
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
         let width = self.config.width as usize;
         let start = row as usize * width;
