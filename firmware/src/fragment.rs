@@ -42,12 +42,16 @@ impl<M: CoverageMask> Fragment<M> {
 /// those of stored depths.
 pub const PLANE_EXTRA_BITS: u32 = 16;
 
+/// Half a stored depth unit in depth-plane units: what rounds a plane value
+/// to the nearest depth before the shift by [`PLANE_EXTRA_BITS`].
+pub const PLANE_HALF_UNIT: i64 = 1 << (PLANE_EXTRA_BITS - 1);
+
 /// Whether the depth plane's value `plane` rounds to a depth in `0 ..=
 /// DEPTH_MAX`, where [`fragment_depth`] is the rounded value shifted down
 /// by [`PLANE_EXTRA_BITS`] and clamps nothing.
 #[inline(always)]
 pub fn depth_in_range(plane: i64) -> bool {
-    ((plane + (1 << (PLANE_EXTRA_BITS - 1))) as u64) < (DEPTH_MAX as u64 + 1) << PLANE_EXTRA_BITS
+    ((plane + PLANE_HALF_UNIT) as u64) < (DEPTH_MAX as u64 + 1) << PLANE_EXTRA_BITS
 }
 
 /// The depth a fragment stores for a depth-plane value `plane` at its pixel
@@ -57,12 +61,12 @@ pub fn depth_in_range(plane: i64) -> bool {
 #[inline(always)]
 pub fn fragment_depth(plane: i64) -> u32 {
     const _: () = assert!(DEPTH_MAX == (1 << 24) - 1 && PLANE_EXTRA_BITS == 16);
-    let rounded = plane + (1 << 15);
+    let rounded = plane + PLANE_HALF_UNIT;
     // The depth is in range exactly when the high word is below 2^8: one
     // comparison in the common case.
     let high = (rounded >> 32) as i32;
     if (high as u32) < 1 << 8 {
-        (rounded >> 16) as u32
+        (rounded >> PLANE_EXTRA_BITS) as u32
     } else if high < 0 {
         0
     } else {

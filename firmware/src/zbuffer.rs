@@ -2,7 +2,7 @@
 
 use crate::band_buffer::{insert_each, BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, Mask1x1};
-use crate::fragment::{depth_in_range, Fragment, PLANE_EXTRA_BITS};
+use crate::fragment::{depth_in_range, Fragment, PLANE_EXTRA_BITS, PLANE_HALF_UNIT};
 use crate::shading::ColorWalk;
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -130,7 +130,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         if end > self.depth.len() || !depth_in_range(run.depth) || !depth_in_range(last) {
             return insert_each(self, x, row, run, walk, color);
         }
-        let mut rounded = run.depth + (1 << (PLANE_EXTRA_BITS - 1));
+        let mut rounded = run.depth + PLANE_HALF_UNIT;
         let (mut stored, mut replaced) = (0u32, 0u32);
         let depths = &mut self.depth[start..end];
         let colors = &mut self.color[start..end];
