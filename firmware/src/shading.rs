@@ -482,27 +482,33 @@ impl ChannelWeights {
     }
 }
 
+/// `2^30 / sqrt(1 + (k + 0.5) / 16)`, `k = 0..48`: where [`rsqrt_q28`] starts.
+const RSQRT_START: [u32; 48] = [
+    1057347856, 1026693558, 998559613, 972618566, 948599586, 926276469, 905458609, 885984104,
+    867714429, 850530263, 834328203, 819018128, 804521086, 790767575, 777696137, 765252196,
+    753387102, 742057327, 731223792, 720851298, 710908045, 701365222, 692196655, 683378504,
+    674889000, 666708225, 658817909, 651201261, 643842818, 636728315, 629844563, 623179354,
+    616721362, 610460069, 604385689, 598489102, 592761802, 587195840, 581783781, 576518662,
+    571393950, 566403514, 561541591, 556802759, 552181909, 547674226, 543275165, 538980433,
+];
+
 /// `1 / sqrt(x)` for `x` in `[1, 4)` (Q28), Q30: a table at the centers of 48
 /// intervals of width 1/16 (within 1.6 %), then two Newton steps (relative
 /// error below 2^-21).
 fn rsqrt_q28(x: u64) -> u64 {
-    // 2^30 / sqrt(1 + (k + 0.5) / 16), k = 0..48.
-    const START: [u32; 48] = [
-        1057347856, 1026693558, 998559613, 972618566, 948599586, 926276469, 905458609, 885984104,
-        867714429, 850530263, 834328203, 819018128, 804521086, 790767575, 777696137, 765252196,
-        753387102, 742057327, 731223792, 720851298, 710908045, 701365222, 692196655, 683378504,
-        674889000, 666708225, 658817909, 651201261, 643842818, 636728315, 629844563, 623179354,
-        616721362, 610460069, 604385689, 598489102, 592761802, 587195840, 581783781, 576518662,
-        571393950, 566403514, 561541591, 556802759, 552181909, 547674226, 543275165, 538980433,
-    ];
     let k = ((x >> 24) - 16).min(47) as usize;
-    let mut y = START[k] as u64;
+    // Every factor below is a word (x below 2^30, y within 3.2 % of its
+    // value in (2^29, 2^30], so x y² / 2^58 within 7 % of 2^30): each
+    // product is one 32 x 32 -> 64-bit multiplication.
+    let x = x as u32;
+    let wide = |a: u32, b: u32| a as u64 * b as u64;
+    let mut y = RSQRT_START[k];
     for _ in 0..2 {
         // y (3 - x y²) / 2, all Q30 (x Q28).
-        let h = (((y * y) >> 30) * x) >> 28;
-        y = (y * ((3 << 30) - h)) >> 31;
+        let h = (wide((wide(y, y) >> 30) as u32, x) >> 28) as u32;
+        y = (wide(y, (3 << 30) - h) >> 31) as u32;
     }
-    y
+    y as u64
 }
 
 /// The unit vector (Q2.14) along `a + b` for unit vectors `a`, `b` (Q2.14): the
@@ -529,9 +535,11 @@ pub fn midpoint_normal(a: &[i32; 3], b: &[i32; 3]) -> Option<[i32; 3]> {
     } else {
         (len2 << 2, 1)
     };
-    let y = rsqrt_q28(x) as i64;
+    // Below 2^31 (see `rsqrt_q28`): with the sum's components (words) one
+    // 32 x 32-bit product each.
+    let y = rsqrt_q28(x) as i32 as i64;
     let shift = (30 - extra) as u32;
-    Some(sum.map(|c| ((c * y + (1 << (shift - 1))) >> shift) as i32))
+    Some(sum.map(|c| ((c as i32 as i64 * y + (1 << (shift - 1))) >> shift) as i32))
 }
 
 /// Largest deviation of a midpoint sample from the mean of its edge's vertex
@@ -1493,6 +1501,29 @@ mod tests {
         }
         assert!(worst <= 1.0, "worst component error {worst} units of 2^-14");
         assert_eq!(midpoint_normal(&[UNIT_ONE, 0, 0], &[-UNIT_ONE, 0, 0]), None);
+    }
+
+    #[test]
+    fn rsqrt_in_words_equals_the_64_bit_steps() {
+        // The steps as first written, every value in 64 bits.
+        fn in_64_bits(x: u64) -> u64 {
+            let k = ((x >> 24) - 16).min(47) as usize;
+            let mut y = RSQRT_START[k] as u64;
+            for _ in 0..2 {
+                let h = (((y * y) >> 30) * x) >> 28;
+                y = (y * ((3 << 30) - h)) >> 31;
+            }
+            y
+        }
+        // Both ends of every table interval and a stride through all.
+        let mut xs: std::vec::Vec<u64> = (16..64u64)
+            .flat_map(|k| [k << 24, ((k + 1) << 24) - 1])
+            .collect();
+        xs.extend(((1u64 << 28)..(4 << 28)).step_by(997));
+        for x in xs {
+            assert_eq!(rsqrt_q28(x), in_64_bits(x), "x {x}");
+            assert!(rsqrt_q28(x) < 1 << 31);
+        }
     }
 
     #[test]
