@@ -20,7 +20,7 @@
 use crate::band_buffer::{BandBuffer, FullRun};
 use crate::coverage::CoverageMask;
 use crate::fragment::{fragment_depth, Fragment};
-use crate::setup::{ColorPlanes, Edge, TriangleSetup};
+use crate::setup::{ColorPlanes, Edge, Plane, ScreenBox, TriangleSetup};
 use crate::shading::{ColorWalk, ConstantWalk, LinearWalk, PhongWalk, QuadraticWalk};
 use core::marker::PhantomData;
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -217,37 +217,91 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
     band_rows: u16,
     buffer: &mut B,
 ) -> bool {
+    let screen_box = ScreenBox {
+        x0: setup.x0,
+        y0: setup.y0,
+        x1: setup.x1,
+        y1: setup.y1,
+    };
+    let depth = (&setup.depth, setup.dzdx, setup.dzdy);
+    match band_test_of_box(screen_box, depth, band_y0, band_rows, buffer) {
+        BandTest::Hidden => true,
+        BandTest::Shown => false,
+        BandTest::AskSpans(rows) => spans_hidden_of(setup, rows, buffer),
+    }
+}
+
+/// What the first steps of [`hidden_in_band`] say, from the box and the
+/// depth plane alone.
+pub(crate) enum BandTest {
+    /// The buffer hides the triangle in the band (the test is counted).
+    Hidden,
+    /// It does not, or the triangle has no pixel in the band (counted too
+    /// where pixels were asked).
+    Shown,
+    /// Only the pixels of the triangle's row spans in these rows can tell
+    /// ([`spans_hidden_of`], which needs the edges).
+    AskSpans(RowRange),
+}
+
+/// [`hidden_in_band`] up to its pixel step over the row spans: everything
+/// it asks from the bounding box `screen_box` and the depth plane `plane`
+/// with the fragments' gradients `dzdx`, `dzdy`.
+#[inline(always)]
+pub(crate) fn band_test_of_box<M: CoverageMask, B: BandBuffer<M>>(
+    screen_box: ScreenBox,
+    (d, dzdx, dzdy): (&Plane, i32, i32),
+    band_y0: u16,
+    band_rows: u16,
+    buffer: &mut B,
+) -> BandTest {
+    let ScreenBox { x0, y0, x1, y1 } = screen_box;
     if band_rows == 0 {
-        return false;
+        return BandTest::Shown;
     }
     let band_last = band_y0 as u32 + band_rows as u32 - 1;
-    let y_first = setup.y0.max(band_y0);
-    let y_last = (setup.y1 as u32).min(band_last) as u16;
-    if y_first > y_last || setup.x0 > setup.x1 {
-        return false;
+    let y_first = y0.max(band_y0);
+    let y_last = (y1 as u32).min(band_last) as u16;
+    if y_first > y_last || x0 > x1 {
+        return BandTest::Shown;
     }
     let rows = RowRange {
         first: y_first,
         last: y_last,
         band_y0,
     };
-    let d = &setup.depth;
     let (i1, j0, j1) = (
-        (setup.x1 - setup.x0) as i64,
-        (y_first - setup.y0) as i64,
-        (y_last - setup.y0) as i64,
+        (x1 - x0) as i64,
+        (y_first - y0) as i64,
+        (y_last - y0) as i64,
     );
     // The plane's smallest value over the box's corners: its steps in x and
     // in y are independent, so the smaller end in each.
     let nearest = d.origin + (i1 * d.dx).min(0) + (j0 * d.dy).min(j1 * d.dy);
-    let bound = 16 * fragment_depth(nearest) as i64 - sample_reach::<M>(setup);
-    if buffer.hides_columns(setup.x0, setup.x1, bound) {
+    let bound = 16 * fragment_depth(nearest) as i64 - sample_reach::<M>(dzdx, dzdy);
+    if buffer.hides_columns(x0, x1, bound) {
         buffer.count_triangle_test(0, true);
-        return true;
+        return BandTest::Hidden;
     }
     if M::SAMPLES == 1 {
-        box_hidden(setup, rows, bound, buffer)
-    } else if edges_fit_i32(setup, y_first, y_last) {
+        if box_hidden((x0, x1), rows, bound, buffer) {
+            BandTest::Hidden
+        } else {
+            BandTest::Shown
+        }
+    } else {
+        BandTest::AskSpans(rows)
+    }
+}
+
+/// [`hidden_in_band`]'s pixel step for a multi-sample buffer, over the
+/// row spans of `setup` in `rows`.
+pub(crate) fn spans_hidden_of<M: CoverageMask, B: BandBuffer<M>>(
+    setup: &TriangleSetup,
+    rows: RowRange,
+    buffer: &mut B,
+) -> bool {
+    if edges_fit_i32(setup, rows.first, rows.last) {
         spans_hidden(setup, &EdgeWalk::<M, i32>::new(setup), rows, buffer)
     } else {
         spans_hidden(setup, &EdgeWalk::<M, i64>::new(setup), rows, buffer)
@@ -258,23 +312,23 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
 /// of `setup` can be at a sample: its gradients times the grid's largest
 /// sample offsets.
 #[inline]
-fn sample_reach<M: CoverageMask>(setup: &TriangleSetup) -> i64 {
-    setup.dzdx.unsigned_abs() as i64 * M::max_offset_x() as i64
-        + setup.dzdy.unsigned_abs() as i64 * M::max_offset_y() as i64
+fn sample_reach<M: CoverageMask>(dzdx: i32, dzdy: i32) -> i64 {
+    dzdx.unsigned_abs() as i64 * M::max_offset_x() as i64
+        + dzdy.unsigned_abs() as i64 * M::max_offset_y() as i64
 }
 
 /// [`hidden_in_band`]'s pixel step over the rows of the bounding box, every
 /// pixel against `bound`; counts the test.
 fn box_hidden<M: CoverageMask, B: BandBuffer<M>>(
-    setup: &TriangleSetup,
+    (x0, x1): (u16, u16),
     rows: RowRange,
     bound: i64,
     buffer: &mut B,
 ) -> bool {
-    let columns = (setup.x1 - setup.x0) as u32 + 1;
+    let columns = (x1 - x0) as u32 + 1;
     let mut asked = 0u32;
     for row in rows.first - rows.band_y0..rows.last - rows.band_y0 + 1 {
-        let run = buffer.hidden_run(row, setup.x0, setup.x1, bound);
+        let run = buffer.hidden_run(row, x0, x1, bound);
         if run < columns {
             // The pixels of the run and the first one not hidden.
             buffer.count_triangle_test(asked + run + 1, false);
@@ -300,7 +354,7 @@ where
     B: BandBuffer<M>,
     E: EdgeValue,
 {
-    let reach = sample_reach::<M>(setup);
+    let reach = sample_reach::<M>(setup.dzdx, setup.dzdy);
     let dz = setup.depth.dx;
     let start = edges.first_row(setup, rows.first);
     let (mut e_row, mut z_row, mut span) = (start.e_row, start.z_row, start.span);
@@ -370,7 +424,7 @@ impl<M: CoverageMask, B: BandBuffer<M>, const PROBE: bool> PixelVisitor<M>
 
 /// The image rows of a triangle within one band.
 #[derive(Clone, Copy)]
-struct RowRange {
+pub(crate) struct RowRange {
     first: u16,
     last: u16,
     band_y0: u16,

@@ -188,6 +188,114 @@ pub(crate) struct Accepted<'v> {
     y1: i32,
 }
 
+/// The center of the first pixel of an accepted triangle's box, in 1/16
+/// pixel.
+#[inline(always)]
+fn first_center(accepted: &Accepted<'_>) -> (i32, i32) {
+    let half = 1i32 << (SUBPIXEL_BITS - 1);
+    (
+        (accepted.x0 << SUBPIXEL_BITS) + half,
+        (accepted.y0 << SUBPIXEL_BITS) + half,
+    )
+}
+
+/// The part of a triangle's setup that the whole-band test needs: its depth
+/// plane and the fragments' gradients, with the reciprocal of its area that
+/// the colors use later. Set up first, so that a face turned away that the
+/// buffer hides costs no edges and no corners.
+#[derive(Clone, Copy)]
+pub(crate) struct DepthSetup {
+    /// As [`TriangleSetup::depth`].
+    pub(crate) plane: Plane,
+    /// As [`TriangleSetup::dzdx`].
+    pub(crate) dzdx: i32,
+    /// As [`TriangleSetup::dzdy`].
+    pub(crate) dzdy: i32,
+    /// The reciprocal of twice the area.
+    area2: Reciprocal,
+}
+
+impl DepthSetup {
+    /// The depth plane of a triangle that passed [`TriangleSetup::accept`].
+    #[inline(always)]
+    pub(crate) fn of(accepted: &Accepted<'_>) -> Self {
+        let Accepted {
+            vertices,
+            order,
+            area2,
+            xs,
+            ys,
+            ..
+        } = *accepted;
+        let v = order.map(|k| &vertices[k]);
+        let (cx, cy) = first_center(accepted);
+        // Depth plane: z = z0 + gx (x - x0) + gy (y - y0), gradients per pixel x 2^16.
+        let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
+        let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
+        let dz1 = v[1].z as i64 - v[0].z as i64;
+        let dz2 = v[2].z as i64 - v[0].z as i64;
+        let shift = 16 + SUBPIXEL_BITS;
+        // One reciprocal of the area serves every plane of the triangle.
+        let reciprocal = Reciprocal::new(area2 as u64);
+        let gx = saturate(
+            reciprocal.mul_div(dz1 * dy2 as i64 - dz2 * dy1 as i64, shift),
+            DEPTH_STEP_LIMIT,
+        );
+        let gy = saturate(
+            reciprocal.mul_div(dx1 as i64 * dz2 - dx2 as i64 * dz1, shift),
+            DEPTH_STEP_LIMIT,
+        );
+        let round16 = |g: i64| saturate((g + (1 << 15)) >> 16, GRADIENT_LIMIT as i64) as i32;
+        Self {
+            plane: Plane {
+                origin: (((v[0].z as i64) << shift)
+                    + gx * (cx - xs[0]) as i64
+                    + gy * (cy - ys[0]) as i64)
+                    >> SUBPIXEL_BITS,
+                dx: gx,
+                dy: gy,
+            },
+            dzdx: round16(gx),
+            dzdy: round16(gy),
+            area2: reciprocal,
+        }
+    }
+}
+
+impl Accepted<'_> {
+    /// Whether the triangle faces away from the viewer (as
+    /// [`TriangleSetup::faces_away`] will say).
+    #[inline]
+    pub(crate) fn faces_away(&self) -> bool {
+        self.order[1] == 1
+    }
+
+    /// The bounding box on screen: first and last column, first and last row.
+    #[inline]
+    pub(crate) fn screen_box(&self) -> ScreenBox {
+        ScreenBox {
+            x0: self.x0 as u16,
+            y0: self.y0 as u16,
+            x1: self.x1 as u16,
+            y1: self.y1 as u16,
+        }
+    }
+}
+
+/// A triangle's bounding box on screen, in pixels (last column and row
+/// included).
+#[derive(Clone, Copy)]
+pub(crate) struct ScreenBox {
+    /// First column.
+    pub(crate) x0: u16,
+    /// First row.
+    pub(crate) y0: u16,
+    /// Last column.
+    pub(crate) x1: u16,
+    /// Last row.
+    pub(crate) y1: u16,
+}
+
 /// Whether a triangle with window-space area `area2` (twice the signed area, from
 /// [`signed_area2`]) faces away from the viewer.
 #[inline]
@@ -305,22 +413,27 @@ impl TriangleSetup {
     /// The setup of a triangle that passed [`TriangleSetup::accept`].
     #[inline(always)]
     pub(crate) fn build(accepted: &Accepted<'_>) -> Self {
+        Self::build_with(accepted, DepthSetup::of(accepted))
+    }
+
+    /// The setup of a triangle that passed [`TriangleSetup::accept`], whose
+    /// depth plane is `depth` ([`DepthSetup::of`]): its edges and corners.
+    #[inline(always)]
+    pub(crate) fn build_with(accepted: &Accepted<'_>, depth: DepthSetup) -> Self {
         let Accepted {
             vertices,
             order,
-            area2,
             xs,
             ys,
             x0,
             y0,
             x1,
             y1,
+            ..
         } = *accepted;
         let v = order.map(|k| &vertices[k]);
         let swapped = order[1] == 2;
-        let half = 1i32 << (SUBPIXEL_BITS - 1);
-        let cx = (x0 << SUBPIXEL_BITS) + half;
-        let cy = (y0 << SUBPIXEL_BITS) + half;
+        let (cx, cy) = first_center(accepted);
         let wide = |a: i32, b: i32| a as i64 * b as i64;
         let mut edges = [Edge::default(); 3];
         for (i, e) in edges.iter_mut().enumerate() {
@@ -335,46 +448,21 @@ impl TriangleSetup {
                 origin: wide(a, cx - xs[ia]) + wide(b, cy - ys[ia]) - if top_left { 0 } else { 1 },
             };
         }
-        // Depth plane: z = z0 + gx (x - x0) + gy (y - y0), gradients per pixel x 2^16.
-        let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
-        let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
-        let dz1 = v[1].z as i64 - v[0].z as i64;
-        let dz2 = v[2].z as i64 - v[0].z as i64;
-        let shift = 16 + SUBPIXEL_BITS;
-        // One reciprocal of the area serves every plane of the triangle.
-        let reciprocal = Reciprocal::new(area2 as u64);
-        let gx = saturate(
-            reciprocal.mul_div(dz1 * dy2 as i64 - dz2 * dy1 as i64, shift),
-            DEPTH_STEP_LIMIT,
-        );
-        let gy = saturate(
-            reciprocal.mul_div(dx1 as i64 * dz2 - dx2 as i64 * dz1, shift),
-            DEPTH_STEP_LIMIT,
-        );
-        let depth = Plane {
-            origin: (((v[0].z as i64) << shift)
-                + gx * (cx - xs[0]) as i64
-                + gy * (cy - ys[0]) as i64)
-                >> SUBPIXEL_BITS,
-            dx: gx,
-            dy: gy,
-        };
-        let round16 = |g: i64| saturate((g + (1 << 15)) >> 16, GRADIENT_LIMIT as i64) as i32;
         Self {
             edges,
             x0: x0 as u16,
             y0: y0 as u16,
             x1: x1 as u16,
             y1: y1 as u16,
-            depth,
-            dzdx: round16(gx),
-            dzdy: round16(gy),
+            depth: depth.plane,
+            dzdx: depth.dzdx,
+            dzdy: depth.dzdy,
             corners: Corners {
                 xs,
                 ys,
                 colors: v.map(|p| p.color),
                 swapped,
-                area2: reciprocal,
+                area2: depth.area2,
             },
         }
     }
