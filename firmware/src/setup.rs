@@ -263,11 +263,18 @@ impl DepthSetup {
 }
 
 impl Accepted<'_> {
+    /// Whether vertices 1 and 2 were swapped to make the edges positive
+    /// inside (the signed area was negative: the triangle faces the viewer).
+    #[inline]
+    fn swapped(&self) -> bool {
+        self.order[1] == 2
+    }
+
     /// Whether the triangle faces away from the viewer (as
     /// [`TriangleSetup::faces_away`] will say).
     #[inline]
     pub(crate) fn faces_away(&self) -> bool {
-        self.order[1] == 1
+        !self.swapped()
     }
 
     /// The bounding box on screen: first and last column, first and last row.
@@ -432,7 +439,7 @@ impl TriangleSetup {
             ..
         } = *accepted;
         let v = order.map(|k| &vertices[k]);
-        let swapped = order[1] == 2;
+        let swapped = accepted.swapped();
         let (cx, cy) = first_center(accepted);
         let wide = |a: i32, b: i32| a as i64 * b as i64;
         let mut edges = [Edge::default(); 3];
