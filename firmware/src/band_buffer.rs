@@ -126,6 +126,13 @@ pub trait BandBuffer<M: CoverageMask> {
     }
     /// Resolves band row `row` into colors, `background` where nothing covers.
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]);
+    /// Band row `row` as [`BandBuffer::resolve_row`] would resolve it, when
+    /// the buffer holds it so in its own memory: a row that goes out with no
+    /// copy. `None` (the default) when it has to be resolved.
+    #[inline]
+    fn row_colors(&self, _row: u16, _background: Rgb888) -> Option<&[Rgb888]> {
+        None
+    }
     /// Ends the band after its rows are resolved: shared memory (the pool) is released.
     fn end_band(&mut self) {}
     /// Fragments held by pixel `(x, row)` now (for depth-complexity maps).

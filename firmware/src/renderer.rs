@@ -498,9 +498,15 @@ where
         stats.bands += 1;
         on_band(y0, rows, buffer);
         for row in 0..rows {
-            buffer.resolve_row(row, scene.background, &mut ws.line[..width as usize]);
-            sink.write_line(y0 + row, &ws.line[..width as usize])
-                .map_err(RenderError::Sink)?;
+            let line = match buffer.row_colors(row, scene.background) {
+                Some(colors) => colors,
+                None => {
+                    let line = &mut ws.line[..width as usize];
+                    buffer.resolve_row(row, scene.background, line);
+                    line
+                }
+            };
+            sink.write_line(y0 + row, line).map_err(RenderError::Sink)?;
         }
         buffer.end_band();
         y0 = y_end;

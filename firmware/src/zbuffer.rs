@@ -16,6 +16,7 @@ pub struct ZBuffer<'a> {
     band_height: u16,
     depth: &'a mut [u32],
     color: &'a mut [Rgb888],
+    empty_color: EmptyColor,
     stats: BufferStats,
 }
 
@@ -38,6 +39,7 @@ impl<'a> ZBuffer<'a> {
             band_height,
             depth,
             color,
+            empty_color: EmptyColor::default(),
             stats: BufferStats::default(),
         })
     }
@@ -54,7 +56,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
 
     fn begin_band(&mut self, _y0: u16, rows: u16) {
         let n = self.width as usize * rows.min(self.band_height) as usize;
-        self.depth[..n].fill(EMPTY_DEPTH);
+        self.empty_color.begin_band(self.depth, self.color, n);
     }
 
     #[inline]
@@ -151,7 +153,13 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        resolve_depth_row(self.depth, self.color, self.width, row, background, out);
+        self.empty_color
+            .resolve_row(self.depth, self.color, self.width, row, background, out);
+    }
+
+    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
+        self.empty_color
+            .row_colors(self.color, self.width, row, background)
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
@@ -200,25 +208,78 @@ pub(crate) fn depth_test_and_store(
     }
 }
 
-/// Row `row` of a depth and color band `width` pixels wide into `out`: a pixel's
-/// color, or `background` where nothing was drawn. Shared by the z-buffer variants.
-// Out of line: inlined into the frame loop, its loop reloads what the
-// registers there cannot hold.
-#[inline(never)]
-pub(crate) fn resolve_depth_row(
-    depth: &[u32],
-    color: &[Rgb888],
-    width: u16,
-    row: u16,
-    background: Rgb888,
-    out: &mut [Rgb888],
-) {
-    let start = row as usize * width as usize;
-    let shown = (width as usize).min(out.len());
-    let depths = &depth[start..start + shown];
-    let colors = &color[start..start + shown];
-    for ((px, &z), &c) in out[..shown].iter_mut().zip(depths).zip(colors) {
-        *px = if z == EMPTY_DEPTH { background } else { c };
+/// The color a z-buffer band keeps in its empty pixels, so that resolving
+/// a row is a copy.
+///
+/// A band's colors are filled at its start with the background the last
+/// resolve asked for (a frame's bands share one); a row resolved with that
+/// background is its colors as they are. A band begun before any resolve,
+/// or a row asked with another background, is resolved pixel by pixel
+/// from the depths (the same colors).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct EmptyColor {
+    /// What the next band's colors are filled with.
+    next: Option<Rgb888>,
+    /// What this band's colors were filled with.
+    band: Option<Rgb888>,
+}
+
+impl EmptyColor {
+    /// Starts a band of the first `n` pixels: every depth empty, every
+    /// color the background of the last resolve (when there was one).
+    #[inline]
+    pub(crate) fn begin_band(&mut self, depth: &mut [u32], color: &mut [Rgb888], n: usize) {
+        depth[..n].fill(EMPTY_DEPTH);
+        self.band = self.next;
+        if let Some(background) = self.band {
+            color[..n].fill(background);
+        }
+    }
+
+    /// Row `row` of the `width` pixels wide `color` band, when its empty
+    /// pixels hold `background` ([`BandBuffer::row_colors`]).
+    #[inline]
+    pub(crate) fn row_colors<'c>(
+        &self,
+        color: &'c [Rgb888],
+        width: u16,
+        row: u16,
+        background: Rgb888,
+    ) -> Option<&'c [Rgb888]> {
+        let start = row as usize * width as usize;
+        if self.band == Some(background) {
+            color.get(start..start + width as usize)
+        } else {
+            None
+        }
+    }
+
+    /// Row `row` of a depth and color band `width` pixels wide into `out`:
+    /// a pixel's color, or `background` where nothing was drawn.
+    // Out of line: inlined into the frame loop, its loop reloads what the
+    // registers there cannot hold.
+    #[inline(never)]
+    pub(crate) fn resolve_row(
+        &mut self,
+        depth: &[u32],
+        color: &[Rgb888],
+        width: u16,
+        row: u16,
+        background: Rgb888,
+        out: &mut [Rgb888],
+    ) {
+        let start = row as usize * width as usize;
+        let shown = (width as usize).min(out.len());
+        let colors = &color[start..start + shown];
+        self.next = Some(background);
+        if self.band == Some(background) {
+            out[..shown].copy_from_slice(colors);
+            return;
+        }
+        let depths = &depth[start..start + shown];
+        for ((px, &z), &c) in out[..shown].iter_mut().zip(depths).zip(colors) {
+            *px = if z == EMPTY_DEPTH { background } else { c };
+        }
     }
 }
 
@@ -315,6 +376,52 @@ mod tests {
                     template,
                 };
                 same_as_pixel_by_pixel(x, &run);
+            }
+        }
+    }
+
+    /// A band's rows lent as they are equal the rows resolved pixel by
+    /// pixel, once a resolve has named the background; before that, or for
+    /// another background, no row is lent.
+    #[test]
+    fn lent_rows_equal_resolved_rows() {
+        let n = (WIDTH * ROWS) as usize;
+        let (mut depth, mut color) = (vec![0; n], vec![Rgb888::new(0, 0, 0); n]);
+        let mut band = ZBuffer::new(WIDTH, ROWS, &mut depth, &mut color).unwrap();
+        let background = Rgb888::new(10, 20, 30);
+        let fragment = |i: u16| Fragment {
+            mask: Mask1x1::FULL,
+            z: 1000 + i as u32,
+            dzdx: 0,
+            dzdy: 0,
+            color: Rgb888::new(i as u8, 7, 9),
+        };
+        let mut resolved = [Rgb888::new(0, 0, 0); WIDTH as usize];
+        for band_index in 0..3 {
+            band.begin_band(band_index * ROWS, ROWS);
+            // Every third pixel drawn, the others empty.
+            for row in 0..ROWS {
+                for x in (row..WIDTH).step_by(3) {
+                    band.insert(x, row, &fragment(x + band_index));
+                }
+            }
+            for row in 0..ROWS {
+                let lent = band.row_colors(row, background).map(|r| r.to_vec());
+                assert_eq!(lent.is_some(), band_index > 0, "band {band_index}");
+                assert!(band.row_colors(row, Rgb888::new(0, 0, 0)).is_none());
+                band.resolve_row(row, background, &mut resolved);
+                if let Some(lent) = lent {
+                    assert_eq!(lent, resolved, "band {band_index}, row {row}");
+                }
+                for (x, c) in resolved.iter().enumerate() {
+                    let drawn = x >= row as usize && (x - row as usize).is_multiple_of(3);
+                    let expected = if drawn {
+                        fragment(x as u16 + band_index).color
+                    } else {
+                        background
+                    };
+                    assert_eq!(*c, expected, "band {band_index}, row {row}, x {x}");
+                }
             }
         }
     }

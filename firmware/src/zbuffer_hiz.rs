@@ -27,7 +27,7 @@ use crate::fragment::Fragment;
 use crate::raster::rasterize;
 use crate::setup::{Rejection, SetupVertex, TriangleSetup};
 use crate::stats::BufferStats;
-use crate::zbuffer::{resolve_depth_row, EMPTY_DEPTH};
+use crate::zbuffer::{EmptyColor, EMPTY_DEPTH};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// log2 of the tile side.
@@ -78,6 +78,7 @@ pub struct HierarchicalZBuffer<'a> {
     tiles_x: u16,
     depth: &'a mut [u32],
     color: &'a mut [Rgb888],
+    empty_color: EmptyColor,
     tiles: &'a mut [HizTile],
     stats: BufferStats,
 }
@@ -109,6 +110,7 @@ impl<'a> HierarchicalZBuffer<'a> {
             tiles_x: width.div_ceil(TILE_SIDE),
             depth,
             color,
+            empty_color: EmptyColor::default(),
             tiles,
             stats: BufferStats::default(),
         })
@@ -224,7 +226,7 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
     fn begin_band(&mut self, _y0: u16, rows: u16) {
         self.rows = rows.clamp(1, self.band_height);
         let n = self.width as usize * self.rows as usize;
-        self.depth[..n].fill(EMPTY_DEPTH);
+        self.empty_color.begin_band(self.depth, self.color, n);
         let tiles_y = self.rows.div_ceil(TILE_SIDE);
         for ty in 0..tiles_y {
             for tx in 0..self.tiles_x {
@@ -301,7 +303,13 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        resolve_depth_row(self.depth, self.color, self.width, row, background, out);
+        self.empty_color
+            .resolve_row(self.depth, self.color, self.width, row, background, out);
+    }
+
+    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
+        self.empty_color
+            .row_colors(self.color, self.width, row, background)
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {

@@ -50,7 +50,7 @@ use crate::raster::rasterize;
 use crate::setup::{signed_area2, ColorPlanes, Edge, Plane, Rejection, SetupVertex, TriangleSetup};
 use crate::shading::{PhongPlanes, QuadraticPolynomial};
 use crate::stats::BufferStats;
-use crate::zbuffer::{depth_test_and_store, resolve_depth_row, EMPTY_DEPTH};
+use crate::zbuffer::{depth_test_and_store, EmptyColor, EMPTY_DEPTH};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// The deepest subdivision accepted (`3^6 = 729` pieces per triangle at most).
@@ -273,6 +273,7 @@ pub struct MidpointZBuffer<'a> {
     rows: u16,
     depth: &'a mut [u32],
     color: &'a mut [Rgb888],
+    empty_color: EmptyColor,
     config: MidpointConfig,
     /// Set while a piece judged visible is written without tests.
     untested: bool,
@@ -306,6 +307,7 @@ impl<'a> MidpointZBuffer<'a> {
             rows: band_height,
             depth,
             color,
+            empty_color: EmptyColor::default(),
             config,
             untested: false,
             merge_agreeing_pieces: true,
@@ -725,7 +727,7 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
     fn begin_band(&mut self, _y0: u16, rows: u16) {
         self.rows = rows.clamp(1, self.band_height);
         let n = self.width as usize * self.rows as usize;
-        self.depth[..n].fill(EMPTY_DEPTH);
+        self.empty_color.begin_band(self.depth, self.color, n);
     }
 
     fn draw_triangle(
@@ -776,7 +778,13 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        resolve_depth_row(self.depth, self.color, self.width, row, background, out);
+        self.empty_color
+            .resolve_row(self.depth, self.color, self.width, row, background, out);
+    }
+
+    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
+        self.empty_color
+            .row_colors(self.color, self.width, row, background)
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {

@@ -280,6 +280,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<B> {
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
         self.inner.resolve_row(row, background, out)
     }
+    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
+        self.inner.row_colors(row, background)
+    }
     fn end_band(&mut self) {
         self.inner.end_band()
     }

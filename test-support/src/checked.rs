@@ -256,6 +256,14 @@ impl<M: CoverageMask, B: Inspect<M>> BandBuffer<M> for Checked<B> {
         self.inner.resolve_row(row, background, out)
     }
 
+    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
+        assert!(
+            self.open && row < self.rows,
+            "row {row} lent outside the band"
+        );
+        self.inner.row_colors(row, background)
+    }
+
     fn end_band(&mut self) {
         assert!(self.open, "band ended twice");
         self.check_band();

@@ -252,6 +252,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
         self.inner.resolve_row(row, background, out);
         self.ticks.resolve += ticks() - t0;
     }
+    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
+        self.inner.row_colors(row, background)
+    }
     fn end_band(&mut self) {
         self.inner.end_band()
     }
