@@ -837,15 +837,29 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         let start = row as usize * width;
         let shown = width.min(out.len());
         // The loop over the row stays small (background pixels are about half
-        // of them); covered pixels are resolved out of line.
+        // of them, in runs: four counts are read as one word); covered
+        // pixels are resolved out of line.
         let counts = &self.counts[start..start + shown];
-        for (x, (px, &n)) in out[..shown].iter_mut().zip(counts).enumerate() {
-            *px = if n == 0 {
-                background
+        let out = &mut out[..shown];
+        let each = |s: &Self, x: usize, counts: &[u8], out: &mut [Rgb888]| {
+            for (k, (px, &n)) in out.iter_mut().zip(counts).enumerate() {
+                *px = if n == 0 {
+                    background
+                } else {
+                    s.resolve_pixel(start + x + k, n as usize, background)
+                };
+            }
+        };
+        let quads = counts.chunks_exact(4).zip(out.chunks_exact_mut(4));
+        for (q, (four, px)) in quads.enumerate() {
+            if u32::from_ne_bytes([four[0], four[1], four[2], four[3]]) == 0 {
+                px.fill(background);
             } else {
-                self.resolve_pixel(start + x, n as usize, background)
-            };
+                each(self, 4 * q, four, px);
+            }
         }
+        let done = shown - shown % 4;
+        each(self, done, &counts[done..], &mut out[done..]);
     }
 
     fn end_band(&mut self) {

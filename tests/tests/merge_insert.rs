@@ -337,6 +337,46 @@ fn resolve_weights_colors_by_coverage() {
     assert_eq!(channels(out[0]), [64, 64, 128]);
 }
 
+/// A row resolves pixel by pixel whatever its width: covered pixels in and
+/// out of four-pixel groups, groups with nothing, and a last group cut short.
+#[test]
+fn resolve_row_covers_every_pixel_of_any_width() {
+    let background = [0, 255, 0];
+    for width in 1..=11u16 {
+        let config = BufferConfig {
+            width,
+            band_height: 2,
+            main_slots: 2,
+            extra_addresses: 0,
+            policy: OverflowPolicy::MergeFarthest,
+        };
+        let mut storage = FragmentStorage::<Mask4x4>::new(config, 0);
+        let mut b = storage.buffer();
+        b.begin_band(0, 2);
+        let drawn = |x: u16| x.is_multiple_of(5) || x == width - 1 || x == 6;
+        let color = |x: u16| [10 * x as u8, 3, 200 - x as u8];
+        for x in (0..width).filter(|&x| drawn(x)) {
+            b.insert(x, 1, &plain(0xFFFF, 10, 0, 0, color(x)).to_fragment());
+        }
+        for row in 0..2 {
+            let mut out = vec![rgb888([1, 2, 3]); width as usize];
+            b.resolve_row(row, rgb888(background), &mut out);
+            for x in 0..width {
+                let expected = if row == 1 && drawn(x) {
+                    color(x)
+                } else {
+                    background
+                };
+                assert_eq!(
+                    channels(out[x as usize]),
+                    expected,
+                    "width {width}, {x}, {row}"
+                );
+            }
+        }
+    }
+}
+
 /// The whole-band test's summary of strips of columns agrees with the pixels:
 /// it says "hidden" only once every pixel of the strips is covered by nearer
 /// fragments, never under `Discard` (which drops coverage), and answers the
