@@ -448,7 +448,10 @@ fn fragment_at<M: CoverageMask>(
 }
 
 /// Finds the first surviving fragment, then sets up colors and inserts from there.
-#[inline]
+// Always inlined: with the compiler's choice the caller (`draw_in_band`)
+// came out 2.5 KB larger on the M4 and 0.01 to 0.1 M instructions a frame
+// slower on the built-in scenes.
+#[inline(always)]
 fn rasterize_with<M, B, E, F>(setup: &TriangleSetup, rows: RowRange, buffer: &mut B, colors: F)
 where
     M: CoverageMask,
