@@ -863,8 +863,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
     }
 
     fn end_band(&mut self) {
-        let used = self.config.width as usize * self.rows as usize;
-        self.counts[..used].fill(0);
+        // The counts are cleared when the next band begins.
         self.pool.reset();
     }
 
