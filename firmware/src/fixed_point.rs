@@ -223,6 +223,21 @@ impl Reciprocal {
     /// [`Reciprocal::mul_div_round`]) must fit `i64`.
     #[inline]
     pub fn mul_div(self, n: i64, extra: u32) -> i64 {
+        // The quotient is `floor(n mantissa 2^extra / 2^shift)` whenever the
+        // whole `2^extra` fits into `n` below (no bit of `n` dropped). For a
+        // numerator below 2^31 the product `n mantissa` fits `i64`, so one
+        // multiplication and one shift give the same bits as the two partial
+        // products (the numerators of most setups are this small).
+        let magnitude = n.unsigned_abs();
+        if magnitude < 1 << 31 && magnitude.leading_zeros() >= extra + 2 && self.shift >= extra {
+            return (n * self.mantissa as i64) >> (self.shift - extra).min(63);
+        }
+        self.mul_div_wide(n, extra)
+    }
+
+    /// [`Reciprocal::mul_div`] for any numerator: the product in two halves.
+    #[inline]
+    fn mul_div_wide(self, n: i64, extra: u32) -> i64 {
         // Move as much of 2^extra into n as fits, so the product keeps its bits.
         let headroom = (n.unsigned_abs().leading_zeros() as i32 - 2).max(0) as u32;
         let early = extra.min(headroom);
@@ -313,6 +328,40 @@ mod tests {
         let q = Reciprocal::new(1).divide(1 << 40);
         assert!((1 << 40) - q < 1 << 12, "{q}");
         assert!((98..=100).contains(&Reciprocal::new(3).divide(300)));
+    }
+
+    #[test]
+    fn short_numerators_divide_as_wide_ones() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let edges = [
+            0i64,
+            1,
+            -1,
+            (1 << 31) - 1,
+            -(1 << 31) + 1,
+            1 << 30,
+            -(1 << 30),
+        ];
+        for i in 0..400_000 {
+            let d = ((next() >> (next() % 64).max(2)) & ((1 << 62) - 1)).max(1);
+            let n = match i % 4 {
+                0 => edges[(next() % edges.len() as u64) as usize],
+                _ => (next() as i64) >> (32 + next() % 32),
+            };
+            let extra = (next() % 48) as u32;
+            let r = Reciprocal::new(d);
+            let wide = r.mul_div_wide(n, extra);
+            if wide.unsigned_abs() >= 1 << 62 {
+                continue;
+            }
+            assert_eq!(r.mul_div(n, extra), wide, "{n} * 2^{extra} / {d}");
+        }
     }
 
     #[test]
