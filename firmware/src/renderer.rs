@@ -649,19 +649,21 @@ fn triangle_rows(
         let (lo, hi) = ys.fold((i32::MAX, i32::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
         (lo >> SUBPIXEL_BITS, hi >> SUBPIXEL_BITS, false)
     } else {
-        let sv = v.map(|p| setup_vertex(&p));
-        let area2 = signed_area2(&sv);
-        let min_x = v.iter().map(|p| p.x()).min().unwrap_or(0) >> SUBPIXEL_BITS;
-        let max_x = v.iter().map(|p| p.x()).max().unwrap_or(0) >> SUBPIXEL_BITS;
-        let min_y = v.iter().map(|p| p.y()).min().unwrap_or(0) >> SUBPIXEL_BITS;
-        let max_y = v.iter().map(|p| p.y()).max().unwrap_or(0) >> SUBPIXEL_BITS;
+        let area2 = signed_area2(&v.map(|p| setup_vertex(&p)));
+        // Facing first: a culled object's faces turned away (about half of
+        // them) need nothing more.
         if area2 == 0 {
             stats.triangles_degenerate += 1;
             return None;
         } else if object.cull_backfaces && is_backfacing(area2) {
             stats.triangles_backfacing += 1;
             return None;
-        } else if max_x < 0 || max_y < 0 || min_x >= width || min_y >= height {
+        }
+        let min_x = v.iter().map(|p| p.x()).min().unwrap_or(0) >> SUBPIXEL_BITS;
+        let max_x = v.iter().map(|p| p.x()).max().unwrap_or(0) >> SUBPIXEL_BITS;
+        let min_y = v.iter().map(|p| p.y()).min().unwrap_or(0) >> SUBPIXEL_BITS;
+        let max_y = v.iter().map(|p| p.y()).max().unwrap_or(0) >> SUBPIXEL_BITS;
+        if max_x < 0 || max_y < 0 || min_x >= width || min_y >= height {
             stats.triangles_outside += 1;
             return None;
         }
