@@ -235,6 +235,26 @@ impl Reciprocal {
         self.mul_div_wide(n, extra)
     }
 
+    /// [`Reciprocal::mul_div`] of each of `numerators` (the same bits), with
+    /// the test for short numerators and the shift made once for all: the
+    /// gradients of one plane, or of a triangle's three color planes.
+    #[inline]
+    pub fn mul_div_each<const N: usize>(self, numerators: [i64; N], extra: u32) -> [i64; N] {
+        let magnitudes = numerators.iter().fold(0, |m, n| m | n.unsigned_abs());
+        // Below 2^31 with `extra <= 29`, all of `2^extra` fits into each.
+        if magnitudes < 1 << 31 && extra <= 29 && self.shift >= extra {
+            let shift = (self.shift - extra).min(63);
+            let mantissa = self.mantissa as i64;
+            return if shift >= 32 {
+                // The product's high word, shifted on in 32 bits.
+                numerators.map(|n| (((n * mantissa) >> 32) as i32 >> (shift - 32)) as i64)
+            } else {
+                numerators.map(|n| (n * mantissa) >> shift)
+            };
+        }
+        numerators.map(|n| self.mul_div(n, extra))
+    }
+
     /// [`Reciprocal::mul_div`] for any numerator: the product in two halves.
     #[inline]
     fn mul_div_wide(self, n: i64, extra: u32) -> i64 {
@@ -331,7 +351,7 @@ mod tests {
     }
 
     #[test]
-    fn short_numerators_divide_as_wide_ones() {
+    fn short_numerators_divide_as_wide_ones_alone_and_in_pairs() {
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
         let mut next = || {
             seed ^= seed << 13;
@@ -361,6 +381,14 @@ mod tests {
                 continue;
             }
             assert_eq!(r.mul_div(n, extra), wide, "{n} * 2^{extra} / {d}");
+            let pair = [n, (next() as i64) >> (32 + next() % 32)];
+            let each = r.mul_div_each(pair, extra);
+            for (k, &n) in pair.iter().enumerate() {
+                let wide = r.mul_div_wide(n, extra);
+                if wide.unsigned_abs() < 1 << 62 {
+                    assert_eq!(each[k], wide, "{n} * 2^{extra} / {d}, in a pair");
+                }
+            }
         }
     }
 

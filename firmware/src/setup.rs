@@ -237,14 +237,15 @@ impl DepthSetup {
         let shift = 16 + SUBPIXEL_BITS;
         // One reciprocal of the area serves every plane of the triangle.
         let reciprocal = Reciprocal::new(area2 as u64);
-        let gx = saturate(
-            reciprocal.mul_div(dz1 * dy2 as i64 - dz2 * dy1 as i64, shift),
-            DEPTH_STEP_LIMIT,
-        );
-        let gy = saturate(
-            reciprocal.mul_div(dx1 as i64 * dz2 - dx2 as i64 * dz1, shift),
-            DEPTH_STEP_LIMIT,
-        );
+        let [gx, gy] = reciprocal
+            .mul_div_each(
+                [
+                    dz1 * dy2 as i64 - dz2 * dy1 as i64,
+                    dx1 as i64 * dz2 - dx2 as i64 * dz1,
+                ],
+                shift,
+            )
+            .map(|g| saturate(g, DEPTH_STEP_LIMIT));
         let round16 = |g: i64| saturate((g + (1 << 15)) >> 16, GRADIENT_LIMIT as i64) as i32;
         Self {
             plane: Plane {
@@ -336,21 +337,33 @@ fn color_planes(
     let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
     let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
     let shift = 8 + SUBPIXEL_BITS;
-    let mut planes = [Plane::default(); 3];
-    for (ch, plane) in planes.iter_mut().enumerate() {
+    let steps = |ch: usize| {
         let c0 = colors[0][ch] as i64;
-        let dc1 = colors[1][ch] as i64 - c0;
-        let dc2 = colors[2][ch] as i64 - c0;
-        let gx = area2.mul_div(dc1 * dy2 - dc2 * dy1, shift);
-        let gy = area2.mul_div(dx1 * dc2 - dx2 * dc1, shift);
-        *plane = Plane {
-            origin: ((c0 << shift) + gx * (center.0 - xs[0]) + gy * (center.1 - ys[0]))
+        (colors[1][ch] as i64 - c0, colors[2][ch] as i64 - c0)
+    };
+    // The x and y gradients of the three channels, by one reciprocal.
+    let gradients = area2.mul_div_each(
+        core::array::from_fn::<_, 6, _>(|k| {
+            let (dc1, dc2) = steps(k / 2);
+            if k % 2 == 0 {
+                dc1 * dy2 - dc2 * dy1
+            } else {
+                dx1 * dc2 - dx2 * dc1
+            }
+        }),
+        shift,
+    );
+    core::array::from_fn(|ch| {
+        let (gx, gy) = (gradients[2 * ch], gradients[2 * ch + 1]);
+        Plane {
+            origin: (((colors[0][ch] as i64) << shift)
+                + gx * (center.0 - xs[0])
+                + gy * (center.1 - ys[0]))
                 >> SUBPIXEL_BITS,
             dx: gx,
             dy: gy,
-        };
-    }
-    planes
+        }
+    })
 }
 
 impl TriangleSetup {
