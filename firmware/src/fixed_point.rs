@@ -232,6 +232,14 @@ impl Reciprocal {
         if magnitude < 1 << 31 && magnitude.leading_zeros() >= extra + 2 && self.shift >= extra {
             return (n * self.mantissa as i64) >> (self.shift - extra).min(63);
         }
+        if self.shift >= extra + 32 {
+            // A divisor large against `2^extra` (a vertex's `w`): the
+            // quotient is below the product's high word, so the halves need
+            // no room made for `2^extra` first (the same bits again).
+            let high = (n >> 32) * self.mantissa as i64;
+            let low = ((n as u32 as u64 * self.mantissa as u64) >> 32) as i64;
+            return (high + low) >> (self.shift - extra - 32);
+        }
         self.mul_div_wide(n, extra)
     }
 
@@ -351,7 +359,7 @@ mod tests {
     }
 
     #[test]
-    fn short_numerators_divide_as_wide_ones_alone_and_in_pairs() {
+    fn every_path_divides_as_the_two_halves_do() {
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
         let mut next = || {
             seed ^= seed << 13;
@@ -372,14 +380,16 @@ mod tests {
             let d = ((next() >> (next() % 64).max(2)) & ((1 << 62) - 1)).max(1);
             let n = match i % 4 {
                 0 => edges[(next() % edges.len() as u64) as usize],
+                1 => (next() as i64) >> (2 + next() % 62),
                 _ => (next() as i64) >> (32 + next() % 32),
             };
             let extra = (next() % 48) as u32;
-            let r = Reciprocal::new(d);
-            let wide = r.mul_div_wide(n, extra);
-            if wide.unsigned_abs() >= 1 << 62 {
+            // Only quotients that fit (as `mul_div` asks).
+            if ((n as i128) << extra).div_euclid(d as i128).unsigned_abs() >= 1 << 60 {
                 continue;
             }
+            let r = Reciprocal::new(d);
+            let wide = r.mul_div_wide(n, extra);
             assert_eq!(r.mul_div(n, extra), wide, "{n} * 2^{extra} / {d}");
             let pair = [n, (next() as i64) >> (32 + next() % 32)];
             let each = r.mul_div_each(pair, extra);
