@@ -317,7 +317,27 @@ fn normalize_clip(c: &[i64; 4]) -> [i64; 4] {
 /// Which clip planes a scaled clip-space vertex is outside of.
 #[inline]
 pub fn outcode(c: &[i64; 4]) -> u8 {
-    let [x, y, z, w] = normalize_clip(c);
+    outcode_of(&normalize_clip(c))
+}
+
+/// A vertex's [`outcode`] and, when that is zero, its window position
+/// ([`project`]; zeros outside the view volume): the clip-space vertex is
+/// brought into range once for both.
+#[inline]
+pub fn outcode_and_project(c: &[i64; 4]) -> (u8, (i32, i32, u32)) {
+    let normalized = normalize_clip(c);
+    let code = outcode_of(&normalized);
+    let window = if code == 0 {
+        project_normalized(&normalized)
+    } else {
+        (0, 0, 0)
+    };
+    (code, window)
+}
+
+/// [`outcode`] of a vertex [`normalize_clip`] has brought into range.
+#[inline]
+fn outcode_of(&[x, y, z, w]: &[i64; 4]) -> u8 {
     let g = w * GUARD_BAND_PX as i64;
     let mut code = 0;
     if z < 0 {
@@ -347,7 +367,12 @@ pub fn outcode(c: &[i64; 4]) -> u8 {
 /// The vertex must have `w > 0` (true for every vertex on the inside of the near plane).
 #[inline]
 pub fn project(c: &[i64; 4]) -> (i32, i32, u32) {
-    let [x, y, z, w] = normalize_clip(c);
+    project_normalized(&normalize_clip(c))
+}
+
+/// [`project`] of a vertex [`normalize_clip`] has brought into range.
+#[inline]
+fn project_normalized(&[x, y, z, w]: &[i64; 4]) -> (i32, i32, u32) {
     // One reciprocal per vertex instead of three 64-bit divisions; the
     // components are at most 2^38, so the quotients times 2^24 fit.
     let w = Reciprocal::new(w.max(1) as u64);
@@ -418,5 +443,27 @@ mod tests {
         assert_ne!(outcode(&far) & OUT_FAR, 0);
         let wide = t.to_clip(&[Coord::from_num(1000), Coord::ZERO, Coord::ZERO]);
         assert_ne!(outcode(&wide) & OUT_RIGHT, 0);
+    }
+
+    #[test]
+    fn outcode_and_project_answer_as_the_two_calls() {
+        let cam = camera();
+        let view = ViewBasis::new(&cam).unwrap();
+        let t = ObjectTransform::new(&cam, &view, 240, 240, &Transform::default(), Coord::ZERO);
+        let mut seed = 0x1234_5678u32;
+        let mut coordinate = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            // Within ±64 units: inside, beside, behind and beyond the view.
+            Coord::from_bits((seed as i32) >> 9)
+        };
+        let mut inside = 0;
+        for _ in 0..20_000 {
+            let c = t.to_clip(&[coordinate(), coordinate(), coordinate()]);
+            let code = outcode(&c);
+            let window = if code == 0 { project(&c) } else { (0, 0, 0) };
+            assert_eq!(outcode_and_project(&c), (code, window), "{c:?}");
+            inside += (code == 0) as u32;
+        }
+        assert!(inside > 1_000, "{inside} inside");
     }
 }

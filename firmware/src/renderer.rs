@@ -11,7 +11,7 @@ use crate::clip::{clip_triangle, ClipVertex};
 use crate::color_carry::{CarriedColors, ColorCarry};
 use crate::coverage::CoverageMask;
 use crate::fixed_point::{Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
-use crate::geometry::{outcode, project, ObjectTransform, ViewBasis};
+use crate::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis};
 use crate::lighting::{color_q8, normalize_unit, LightSetup};
 use crate::scene::{Scene, SceneError, Shading};
 use crate::setup::TriangleSetup;
@@ -556,8 +556,7 @@ fn transform_vertices(
         let mesh = &object.mesh;
         for (i, p) in mesh.positions.iter().enumerate() {
             let c = transform.to_clip(p);
-            let code = outcode(&c);
-            let (x, y, z) = if code == 0 { project(&c) } else { (0, 0, 0) };
+            let (code, (x, y, z)) = outcode_and_project(&c);
             let color = match (shading, &ctx.light) {
                 (Shading::Gouraud | Shading::Quadratic, Some(light)) => {
                     let n = mesh.normals[i].map(|v| v.to_bits() as i32);

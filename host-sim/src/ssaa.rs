@@ -32,7 +32,7 @@ use crate::render::RenderOutput;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::clip::{clip_triangle, ClipVertex};
 use mcu_abuffer::fixed_point::{saturate, Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
-use mcu_abuffer::geometry::{outcode, project, ObjectTransform, ViewBasis};
+use mcu_abuffer::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis};
 use mcu_abuffer::lighting::{color_q8, normalize_unit, ColorQ8, LightSetup};
 use mcu_abuffer::scene::Shading;
 use mcu_abuffer::setup::{ColorPlanes, ColorSource, Plane, SetupVertex, TriangleSetup};
@@ -270,8 +270,7 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
             .zip(mesh.normals)
             .map(|(p, n)| {
                 let c = transform.to_clip(p);
-                let code = outcode(&c);
-                let (x, y, z) = if code == 0 { project(&c) } else { (0, 0, 0) };
+                let (code, (x, y, z)) = outcode_and_project(&c);
                 let normal = transform.normal_to_eye(&n.map(|v| v.to_bits() as i32));
                 let color = match &light {
                     Some(l) if lit_vertices => shade_to_u8(l.shade(&normal, base)),
