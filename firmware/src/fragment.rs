@@ -54,6 +54,14 @@ pub fn depth_in_range(plane: i64) -> bool {
     ((plane + PLANE_HALF_UNIT) as u64) < (DEPTH_MAX as u64 + 1) << PLANE_EXTRA_BITS
 }
 
+/// `v` saturated to the 24-bit signed range, `-2^23 ..= 2^23 - 1`: one
+/// instruction on the Cortex-M4 (`ssat`). Gradients within
+/// ±[`GRADIENT_LIMIT`] pass unchanged.
+#[inline(always)]
+fn saturate_24(v: i32) -> i32 {
+    v.clamp(-(1 << 23), (1 << 23) - 1)
+}
+
 /// The depth a fragment stores for a depth-plane value `plane` at its pixel
 /// center (depth units with [`PLANE_EXTRA_BITS`] extra fraction bits,
 /// [`crate::setup::Plane`]): rounded to nearest and clamped to `0 ..=
@@ -125,13 +133,15 @@ impl<M: CoverageMask> PackedFragment<M> {
         dzdy_blue: 0,
     };
 
-    /// Packs a working fragment. Depth is clamped to `DEPTH_MAX` and gradients to
-    /// ±[`GRADIENT_LIMIT`] (the rasterizer already keeps them in range).
+    /// Packs a working fragment. Depth is clamped to `DEPTH_MAX` and gradients
+    /// saturated to 24 bits, `-2^23 ..= 2^23 - 1` (a fragment's are within
+    /// ±[`GRADIENT_LIMIT`], and the rasterizer keeps them there: they pass
+    /// unchanged).
     #[inline]
     pub fn pack(f: &Fragment<M>) -> Self {
         let z = f.z.min(DEPTH_MAX);
-        let dx = f.dzdx.clamp(-GRADIENT_LIMIT, GRADIENT_LIMIT) as u32 & LOW24;
-        let dy = f.dzdy.clamp(-GRADIENT_LIMIT, GRADIENT_LIMIT) as u32 & LOW24;
+        let dx = saturate_24(f.dzdx) as u32 & LOW24;
+        let dy = saturate_24(f.dzdy) as u32 & LOW24;
         Self {
             mask: f.mask,
             z_red: z | (f.color.r() as u32) << 24,
@@ -229,6 +239,6 @@ mod tests {
             ..f
         };
         let u = PackedFragment::pack(&g).unpack();
-        assert_eq!((u.dzdx, u.dzdy), (GRADIENT_LIMIT, -GRADIENT_LIMIT));
+        assert_eq!((u.dzdx, u.dzdy), (GRADIENT_LIMIT, -GRADIENT_LIMIT - 1));
     }
 }
