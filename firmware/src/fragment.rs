@@ -133,13 +133,15 @@ impl<M: CoverageMask> PackedFragment<M> {
         dzdy_blue: 0,
     };
 
-    /// Packs a working fragment. Depth is clamped to `DEPTH_MAX` and gradients
-    /// saturated to 24 bits, `-2^23 ..= 2^23 - 1` (a fragment's are within
-    /// ±[`GRADIENT_LIMIT`], and the rasterizer keeps them there: they pass
-    /// unchanged).
+    /// Packs a working fragment. A fragment's depth is within `0 ..= DEPTH_MAX`
+    /// and its gradients within ±[`GRADIENT_LIMIT`] (the rasterizer keeps them
+    /// there), and those pass unchanged; beyond, each is saturated as a signed
+    /// 32-bit value, one instruction each on the Cortex-M4 (`usat`, `ssat`):
+    /// depth to `0 ..= DEPTH_MAX` (a depth above `i32::MAX` counts as negative
+    /// and packs as 0), gradients to 24 bits, `-2^23 ..= 2^23 - 1`.
     #[inline]
     pub fn pack(f: &Fragment<M>) -> Self {
-        let z = f.z.min(DEPTH_MAX);
+        let z = (f.z as i32).clamp(0, DEPTH_MAX as i32) as u32;
         let dx = saturate_24(f.dzdx) as u32 & LOW24;
         let dy = saturate_24(f.dzdy) as u32 & LOW24;
         Self {
@@ -240,5 +242,10 @@ mod tests {
         };
         let u = PackedFragment::pack(&g).unpack();
         assert_eq!((u.dzdx, u.dzdy), (GRADIENT_LIMIT, -GRADIENT_LIMIT - 1));
+        let deep = Fragment {
+            z: DEPTH_MAX + 5,
+            ..f
+        };
+        assert_eq!(PackedFragment::pack(&deep).unpack().z, DEPTH_MAX);
     }
 }
