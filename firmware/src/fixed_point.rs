@@ -223,14 +223,8 @@ impl Reciprocal {
     /// [`Reciprocal::mul_div_round`]) must fit `i64`.
     #[inline]
     pub fn mul_div(self, n: i64, extra: u32) -> i64 {
-        // The quotient is `floor(n mantissa 2^extra / 2^shift)` whenever the
-        // whole `2^extra` fits into `n` below (no bit of `n` dropped). For a
-        // numerator below 2^31 the product `n mantissa` fits `i64`, so one
-        // multiplication and one shift give the same bits as the two partial
-        // products (the numerators of most setups are this small).
-        let magnitude = n.unsigned_abs();
-        if magnitude < 1 << 31 && magnitude.leading_zeros() >= extra + 2 && self.shift >= extra {
-            return (n * self.mantissa as i64) >> (self.shift - extra).min(63);
+        if let Some(shift) = self.short_shift(n.unsigned_abs(), extra) {
+            return (n * self.mantissa as i64) >> shift;
         }
         if self.shift >= extra + 32 {
             // A divisor large against `2^extra` (a vertex's `w`): the
@@ -249,18 +243,31 @@ impl Reciprocal {
     #[inline]
     pub fn mul_div_each<const N: usize>(self, numerators: [i64; N], extra: u32) -> [i64; N] {
         let magnitudes = numerators.iter().fold(0, |m, n| m | n.unsigned_abs());
-        // Below 2^31 with `extra <= 29`, all of `2^extra` fits into each.
-        if magnitudes < 1 << 31 && extra <= 29 && self.shift >= extra {
-            let shift = (self.shift - extra).min(63);
-            let mantissa = self.mantissa as i64;
-            return if shift >= 32 {
-                // The product's high word, shifted on in 32 bits.
-                numerators.map(|n| (((n * mantissa) >> 32) as i32 >> (shift - 32)) as i64)
-            } else {
-                numerators.map(|n| (n * mantissa) >> shift)
-            };
+        let Some(shift) = self.short_shift(magnitudes, extra) else {
+            return numerators.map(|n| self.mul_div(n, extra));
+        };
+        let mantissa = self.mantissa as i64;
+        if shift >= 32 {
+            // The product's high word, shifted on in 32 bits.
+            numerators.map(|n| (((n * mantissa) >> 32) as i32 >> (shift - 32)) as i64)
+        } else {
+            numerators.map(|n| (n * mantissa) >> shift)
         }
-        numerators.map(|n| self.mul_div(n, extra))
+    }
+
+    /// The shift that takes `n mantissa` to the quotient, for numerators of
+    /// at most `magnitudes` (their bits or-ed) that the short path takes.
+    /// The quotient is `floor(n mantissa 2^extra / 2^shift)` whenever the
+    /// whole `2^extra` fits into `n` below (no bit of `n` dropped). Below
+    /// 2^31 the product `n mantissa` fits `i64`, so one multiplication and
+    /// this shift give the same bits as the two partial products (the
+    /// numerators of most setups are this small). `None` otherwise.
+    #[inline]
+    fn short_shift(self, magnitudes: u64, extra: u32) -> Option<u32> {
+        // Below 2^31 the leading zeros are at least 33: with `extra <= 31`
+        // (every constant scale of setup) the count need not be taken.
+        let fits = extra <= 31 || magnitudes.leading_zeros() >= extra + 2;
+        (magnitudes < 1 << 31 && fits && self.shift >= extra).then(|| (self.shift - extra).min(63))
     }
 
     /// [`Reciprocal::mul_div`] for any numerator: the product in two halves.
