@@ -10,17 +10,29 @@
 //! ([`CarriedColors`] entries in the frame workspace) and the next band
 //! takes them from there.
 //!
-//! The table is a ring: an entry is free once the band its triangle ends in
-//! took it, or once its triangle ended above the band being drawn; when
-//! every entry is still wanted, they are replaced in turn. A triangle not
-//! found gets its planes computed again: the same bits, so the image never
-//! depends on the table's size (an empty table carries nothing). Only
-//! planes that cost much are worth the copies: quadratic surfaces are
-//! carried; Gouraud planes cost less to set up than to copy twice, and
-//! Phong shading (the reference) is not carried.
+//! An entry is free once the band its triangle ends in took it, or once its
+//! triangle ended above the band being drawn. New planes take the next free
+//! entry in turn; when none is free they are not kept, and the entries
+//! stay with the planes kept earlier (replacing those in turn would lose
+//! each one before the next band asks for it whenever more triangles go on
+//! than the table holds). A triangle not found gets its planes computed
+//! again: the same bits, so the image never depends on the table's size
+//! (an empty table carries nothing). Only planes that cost much are worth
+//! the copies: those of quadratic shading, that is the quadratic surfaces
+//! and the linear planes that replace them where the lit samples lie on a
+//! plane (both paid for the lighting of the midpoints). Gouraud planes cost
+//! less to set up than to copy twice, and Phong shading (the reference) is
+//! not carried.
+//!
+//! An entry holds nine 64-bit words: three linear planes, or the three
+//! polynomials of a quadratic that walks in `i32` (each coefficient a
+//! multiple of `2^8` below `2^39` in magnitude, kept as the 32 bits above
+//! its 8 low ones, two to a word). A wider quadratic takes two entries,
+//! each naming the other. The search for a triangle starts after the entry
+//! found last: the next band asks in about the order this one kept.
 
-use crate::setup::{ColorPlanes, ColorSource, TriangleSetup};
-use crate::shading::QuadraticPolynomial;
+use crate::setup::{ColorPlanes, Plane};
+use crate::shading::{QuadraticPolynomial, NARROW_QUADRATIC_DROPPED_BITS};
 
 /// The key of an entry holding no triangle. Zero, so that a table of empty
 /// entries is all zeros and a `static` one takes no flash for its image.
@@ -34,27 +46,59 @@ fn key_of(triangle: u32) -> u32 {
     triangle + 1
 }
 
-/// One entry of the carried-colors table: a triangle's quadratic color
-/// surfaces and the last image row it covers.
+/// Words of color planes in one entry.
+const ENTRY_WORDS: usize = 9;
+
+/// What an entry holds (zero, the first, in an empty entry).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+enum Held {
+    /// [`ColorPlanes::Linear`]: per channel the origin, `dx` and `dy` of its
+    /// plane.
+    Linear = 0,
+    /// [`ColorPlanes::NarrowQuadratic`]: the 18 coefficients (per channel
+    /// `a` to `f`), two to a word, each shifted down by
+    /// [`NARROW_QUADRATIC_DROPPED_BITS`] into 32 bits (the first low).
+    NarrowQuadratic = 1,
+    /// [`ColorPlanes::Quadratic`]: the first 9 of its 18 coefficients; its
+    /// partner entry holds the rest.
+    Quadratic = 2,
+    /// The second entry of a [`Held::Quadratic`] (never found by itself).
+    QuadraticRest = 3,
+}
+
+/// One entry of the carried-colors table: color planes of a triangle (or
+/// half of them, see [`Held`]) and the last image row it covers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CarriedColors {
-    polynomials: [QuadraticPolynomial; 3],
+    words: [i64; ENTRY_WORDS],
     /// [`key_of`] the triangle, or [`NO_TRIANGLE`].
     key: u32,
     last_row: u16,
-    /// The polynomials walk in `i32` ([`ColorPlanes::NarrowQuadratic`]).
-    narrow: bool,
+    /// A [`Held`].
+    held: u8,
+    /// The other entry of a two-entry quadratic (this entry's own index
+    /// otherwise).
+    partner: u8,
 }
 
 impl CarriedColors {
     /// An entry holding nothing: the initial value of workspace arrays
     /// (`static` arrays included).
     pub const EMPTY: Self = Self {
-        polynomials: [QuadraticPolynomial::ZERO; 3],
+        words: [0; ENTRY_WORDS],
         key: NO_TRIANGLE,
         last_row: 0,
-        narrow: false,
+        held: Held::Linear as u8,
+        partner: 0,
     };
+
+    /// Whether the entry can take new planes while the band at `band_y0`
+    /// is drawn: it holds nothing, or a triangle that ended above the band.
+    #[inline]
+    fn is_free(&self, band_y0: u16) -> bool {
+        self.key == NO_TRIANGLE || self.last_row < band_y0
+    }
 }
 
 impl Default for CarriedColors {
@@ -63,105 +107,367 @@ impl Default for CarriedColors {
     }
 }
 
-/// The carried-colors table of one frame, over the workspace's entries.
+/// Coefficient `j` (`a` to `f`, channel after channel) of `p`.
+#[inline(always)]
+fn coefficient(p: &[QuadraticPolynomial; 3], j: usize) -> i64 {
+    let q = &p[j / 6];
+    [q.a, q.b, q.c, q.d, q.e, q.f][j % 6]
+}
+
+/// The polynomials whose coefficient `j` (as [`coefficient`] counts them)
+/// is `k(j)`.
+#[inline(always)]
+fn polynomials(k: impl Fn(usize) -> i64) -> [QuadraticPolynomial; 3] {
+    core::array::from_fn(|c| QuadraticPolynomial {
+        a: k(6 * c),
+        b: k(6 * c + 1),
+        c: k(6 * c + 2),
+        d: k(6 * c + 3),
+        e: k(6 * c + 4),
+        f: k(6 * c + 5),
+    })
+}
+
+/// The color planes an entry holding `held` keeps in `first` (and, for a
+/// [`Held::Quadratic`], its partner entry's, `rest`).
+#[inline(always)]
+fn load(held: u8, first: &[i64; ENTRY_WORDS], rest: &[i64; ENTRY_WORDS]) -> ColorPlanes {
+    if held == Held::Linear as u8 {
+        ColorPlanes::Linear(core::array::from_fn(|c| Plane {
+            origin: first[3 * c],
+            dx: first[3 * c + 1],
+            dy: first[3 * c + 2],
+        }))
+    } else if held == Held::NarrowQuadratic as u8 {
+        ColorPlanes::NarrowQuadratic(polynomials(|j| {
+            let half = (first[j / 2] >> (32 * (j % 2))) as i32;
+            (half as i64) << NARROW_QUADRATIC_DROPPED_BITS
+        }))
+    } else {
+        ColorPlanes::Quadratic(polynomials(|j| {
+            if j < ENTRY_WORDS {
+                first[j]
+            } else {
+                rest[j - ENTRY_WORDS]
+            }
+        }))
+    }
+}
+
+/// The carried-colors table of one frame, over the workspace's entries (at
+/// most [`MAX_ENTRIES`] of them are used).
 pub(crate) struct ColorCarry<'a> {
     entries: &'a mut [CarriedColors],
-    /// The entry to replace next, in turn.
+    /// Where the search for a free entry starts: after the entry taken last.
     next: usize,
+    /// Where the search for a triangle starts: after the entry found last.
+    cursor: usize,
+    /// The band (its first row) in which no free entry was left, until an
+    /// entry is freed: the search is not repeated there.
+    full_in_band: Option<u16>,
     /// Planes taken from the table in this frame.
     pub(crate) carried: u32,
 }
+
+/// Entries a table uses at most: an entry names its partner in one byte.
+pub const MAX_ENTRIES: usize = 256;
 
 impl<'a> ColorCarry<'a> {
     /// An empty table over `entries` (what an earlier frame left there is
     /// forgotten: the vertices have moved).
     pub(crate) fn new(entries: &'a mut [CarriedColors]) -> Self {
+        let used = entries.len().min(MAX_ENTRIES);
+        let entries = &mut entries[..used];
         entries.fill(CarriedColors::EMPTY);
         Self {
             entries,
             next: 0,
+            cursor: 0,
+            full_in_band: None,
             carried: 0,
         }
     }
 
-    /// The color planes of `triangle`, set up as `setup`, drawn in the band
-    /// of image rows `band_y0..band_end`: from the table when an earlier band
-    /// kept them, else from `source` (quadratic surfaces are kept when the
-    /// triangle goes on below the band). An entry taken by the band its
-    /// triangle ends in is free again at once.
+    /// The color planes of `triangle`, whose bounding box covers image rows
+    /// `first_row..=last_row`, drawn in the band of rows
+    /// `band_y0..band_end`: from the table when an earlier band kept them,
+    /// else from `set_up` (kept when worth carrying and the triangle goes on
+    /// below the band). An entry taken by the band its triangle ends in is
+    /// free again at once.
     #[inline]
-    pub(crate) fn planes<'l>(
+    pub(crate) fn planes(
         &mut self,
         triangle: u32,
-        setup: &TriangleSetup,
+        (first_row, last_row): (u16, u16),
         band_y0: u16,
         band_end: u32,
-        source: impl FnOnce() -> ColorSource<'l>,
+        set_up: impl FnOnce() -> ColorPlanes,
     ) -> ColorPlanes {
         // Only a triangle that began above this band can have been kept.
-        if setup.y0 < band_y0 {
-            let key = key_of(triangle);
-            if let Some(entry) = self.entries.iter_mut().find(|e| e.key == key) {
+        if first_row < band_y0 {
+            if let Some(i) = self.find(key_of(triangle)) {
                 self.carried += 1;
-                if (entry.last_row as u32) < band_end {
-                    entry.key = NO_TRIANGLE;
+                self.cursor = i + 1;
+                let first = &self.entries[i];
+                let rest = first.partner as usize;
+                if (first.last_row as u32) < band_end {
+                    // The band the triangle ends in: its entries are free.
+                    self.full_in_band = None;
+                    self.entries[i].key = NO_TRIANGLE;
+                    if let Some(e) = self.entries.get_mut(rest) {
+                        e.key = NO_TRIANGLE;
+                    }
                 }
-                return if entry.narrow {
-                    ColorPlanes::NarrowQuadratic(entry.polynomials)
-                } else {
-                    ColorPlanes::Quadratic(entry.polynomials)
-                };
+                let first = &self.entries[i];
+                let rest = self.entries.get(rest).unwrap_or(first);
+                return load(first.held, &first.words, &rest.words);
             }
         }
-        let planes = setup.color_planes(source());
-        if setup.y1 as u32 >= band_end {
-            if let ColorPlanes::NarrowQuadratic(polynomials) = &planes {
-                self.keep(triangle, setup.y1, band_y0, polynomials, true);
-            } else if let ColorPlanes::Quadratic(polynomials) = &planes {
-                self.keep(triangle, setup.y1, band_y0, polynomials, false);
+        if (last_row as u32) < band_end {
+            // Its last band: nothing to keep (and the planes go straight
+            // to the caller, with no copy).
+            return set_up();
+        }
+        let planes = set_up();
+        let key = key_of(triangle);
+        match &planes {
+            ColorPlanes::Linear(p) => self.keep(key, last_row, band_y0, false, |first, _| {
+                *first = core::array::from_fn(|i| {
+                    let plane = &p[i / 3];
+                    [plane.origin, plane.dx, plane.dy][i % 3]
+                });
+                Held::Linear
+            }),
+            ColorPlanes::NarrowQuadratic(p) => {
+                self.keep(key, last_row, band_y0, false, |first, _| {
+                    // Exact: a polynomial that walks in `i32` has its
+                    // dropped bits zero and each coefficient below 2^39 in
+                    // magnitude (its bound over the box counts each one at
+                    // least once).
+                    let word =
+                        |j: usize| (coefficient(p, j) >> NARROW_QUADRATIC_DROPPED_BITS) as u32;
+                    *first = core::array::from_fn(|i| {
+                        (word(2 * i) as u64 | (word(2 * i + 1) as u64) << 32) as i64
+                    });
+                    Held::NarrowQuadratic
+                })
             }
+            ColorPlanes::Quadratic(p) => self.keep(key, last_row, band_y0, true, |first, rest| {
+                *first = core::array::from_fn(|i| coefficient(p, i));
+                *rest = core::array::from_fn(|i| coefficient(p, ENTRY_WORDS + i));
+                Held::Quadratic
+            }),
+            ColorPlanes::Constant(_) | ColorPlanes::Phong(_) => {}
         }
         planes
     }
 
-    /// Keeps the quadratic `polynomials` of `triangle` (`narrow`: they walk
-    /// in `i32`), which goes on to row `last_row` below the band at `band_y0`.
-    #[inline]
-    fn keep(
-        &mut self,
-        triangle: u32,
-        last_row: u16,
-        band_y0: u16,
-        polynomials: &[QuadraticPolynomial; 3],
-        narrow: bool,
-    ) {
-        if let Some(slot) = self.slot_to_keep(band_y0) {
-            self.entries[slot] = CarriedColors {
-                polynomials: *polynomials,
-                key: key_of(triangle),
-                last_row,
-                narrow,
-            };
+    /// The entry holding (the first part of) the planes kept under `key`,
+    /// searched from after the entry found last.
+    #[inline(always)]
+    fn find(&self, key: u32) -> Option<usize> {
+        let found = |e: &CarriedColors| e.key == key && e.held != Held::QuadraticRest as u8;
+        let cursor = self.cursor.min(self.entries.len());
+        let (before, after) = self.entries.split_at(cursor);
+        match after.iter().position(found) {
+            Some(i) => Some(cursor + i),
+            None => before.iter().position(found),
         }
     }
 
-    /// The entry to keep new planes in (drawing the band at `band_y0`): the
-    /// next in turn, or the first after it that is free or whose triangle
-    /// ended above the band; `None` when the table has no entries.
-    #[inline(never)]
-    fn slot_to_keep(&mut self, band_y0: u16) -> Option<usize> {
-        let n = self.entries.len();
-        let mut slot = self.next;
-        for _ in 0..n {
-            let e = self.entries.get(slot)?;
-            if e.key == NO_TRIANGLE || e.last_row < band_y0 {
-                break;
-            }
-            slot = if slot + 1 == n { 0 } else { slot + 1 };
+    /// Keeps planes of the triangle with `key`, which goes on to row
+    /// `last_row` below the band at `band_y0`, in one entry or (`two`) in
+    /// two: `store` writes them (into the first entry's words and the
+    /// second's) and says what the first holds.
+    #[inline(always)]
+    fn keep(
+        &mut self,
+        key: u32,
+        last_row: u16,
+        band_y0: u16,
+        two: bool,
+        store: impl FnOnce(&mut [i64; ENTRY_WORDS], &mut [i64; ENTRY_WORDS]) -> Held,
+    ) {
+        // Only free entries are written: their triangles ended above the
+        // band (no band asks for them again) or they hold nothing, so no
+        // planes anyone asks for lose an entry.
+        let Some(first) = self.free_entry(band_y0) else {
+            return;
+        };
+        // An entry names itself as its partner when it holds everything.
+        let mut rest_words = [0; ENTRY_WORDS];
+        let mut rest = first;
+        if two {
+            // Taken for now, so that the search passes over it.
+            self.entries[first].key = key;
+            self.entries[first].last_row = last_row;
+            let Some(second) = self.free_entry(band_y0) else {
+                self.entries[first].key = NO_TRIANGLE;
+                return;
+            };
+            rest = second;
         }
-        // When every entry is still wanted, `slot` is back at `next`: the
-        // oldest kept is replaced.
-        self.next = if slot + 1 >= n { 0 } else { slot + 1 };
-        (slot < n).then_some(slot)
+        let held = store(&mut self.entries[first].words, &mut rest_words);
+        let e = &mut self.entries[first];
+        e.held = held as u8;
+        e.key = key;
+        e.last_row = last_row;
+        e.partner = rest as u8;
+        if two {
+            let e = &mut self.entries[rest];
+            e.words = rest_words;
+            e.held = Held::QuadraticRest as u8;
+            e.key = key;
+            e.last_row = last_row;
+            e.partner = first as u8;
+        }
+    }
+
+    /// A free entry to keep new planes in (drawing the band at
+    /// `band_y0`): the first from the one after the entry taken last, in
+    /// turn; `None` when there is none. Planes already kept stay when the
+    /// table is full: replacing them in turn would lose every one before
+    /// the next band asks, when more triangles go on than the table holds.
+    #[inline(never)]
+    fn free_entry(&mut self, band_y0: u16) -> Option<usize> {
+        if self.full_in_band == Some(band_y0) {
+            return None;
+        }
+        let next = self.next.min(self.entries.len());
+        let (before, after) = self.entries.split_at(next);
+        let free = |e: &CarriedColors| e.is_free(band_y0);
+        let Some(i) = after
+            .iter()
+            .position(free)
+            .map(|i| next + i)
+            .or_else(|| before.iter().position(free))
+        else {
+            self.full_in_band = Some(band_y0);
+            return None;
+        };
+        self.next = i + 1;
+        Some(i)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::cell::Cell;
+    use embedded_graphics_core::pixelcolor::Rgb888;
+
+    /// A xorshift generator.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        fn below(&mut self, n: u64) -> u64 {
+            self.next() % n
+        }
+    }
+
+    /// Planes that depend only on `triangle` (each kind in turn): what a
+    /// setup would compute for it every time.
+    fn planes_of(triangle: u32) -> ColorPlanes {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ ((triangle as u64 + 1) * 0x2545_f491));
+        let mut wide = || rng.next() as i64;
+        let polynomial = |k: &mut dyn FnMut() -> i64| QuadraticPolynomial {
+            a: k(),
+            b: k(),
+            c: k(),
+            d: k(),
+            e: k(),
+            f: k(),
+        };
+        match triangle % 5 {
+            0 => ColorPlanes::Linear(core::array::from_fn(|_| Plane {
+                origin: wide(),
+                dx: wide(),
+                dy: wide(),
+            })),
+            1 => {
+                // Multiples of 2^8 within ±2^39, both ends included.
+                let mut narrow = || {
+                    let k = (wide() >> 24) & !0xff;
+                    match k & 0x300 {
+                        0x100 => -(1 << 39),
+                        0x200 => (1 << 39) - 256,
+                        _ => k,
+                    }
+                };
+                ColorPlanes::NarrowQuadratic(core::array::from_fn(|_| polynomial(&mut narrow)))
+            }
+            2 => ColorPlanes::Quadratic(core::array::from_fn(|_| polynomial(&mut wide))),
+            3 => ColorPlanes::Constant(Rgb888::new(triangle as u8, 7, 9)),
+            _ => ColorPlanes::Quadratic(core::array::from_fn(|_| polynomial(&mut wide))),
+        }
+    }
+
+    #[test]
+    fn every_kind_comes_back_bit_for_bit() {
+        let mut entries = [CarriedColors::EMPTY; 4];
+        let mut carry = ColorCarry::new(&mut entries);
+        for t in 0..5 {
+            let kept = !matches!(planes_of(t), ColorPlanes::Constant(_));
+            let rows = (2, 15);
+            let set_ups = Cell::new(0);
+            let mut ask = |band_y0: u16| {
+                carry.planes(t, rows, band_y0, band_y0 as u32 + 6, || {
+                    set_ups.set(set_ups.get() + 1);
+                    planes_of(t)
+                })
+            };
+            // Set up in its first band, taken in the next and in the one it
+            // ends in (which frees the entries), set up again after that.
+            for band_y0 in [0, 6, 12, 12] {
+                assert_eq!(ask(band_y0), planes_of(t), "triangle {t}");
+            }
+            assert_eq!(set_ups.get(), if kept { 2 } else { 4 }, "triangle {t}");
+        }
+        assert_eq!(carry.carried, 8);
+    }
+
+    #[test]
+    fn full_tables_never_give_other_planes() {
+        // Random frames over tables of 0 to 7 entries: whatever is kept,
+        // replaced or forgotten, the planes asked for are the triangle's.
+        let mut rng = Rng(0x0123_4567_89ab_cdef);
+        let mut carried = 0;
+        for frame in 0..400 {
+            let n = frame % 8;
+            let mut entries = [CarriedColors::EMPTY; 7];
+            let mut carry = ColorCarry::new(&mut entries[..n]);
+            let triangles: [(u32, (u16, u16)); 40] = core::array::from_fn(|i| {
+                let first = rng.below(200) as u16;
+                (
+                    i as u32 * 3 + frame as u32,
+                    (first, first + rng.below(40) as u16),
+                )
+            });
+            for band_y0 in (0..240).step_by(6) {
+                let band_end = band_y0 as u32 + 6;
+                for _ in 0..rng.below(30) {
+                    let (t, rows) = triangles[rng.below(40) as usize];
+                    if rows.1 < band_y0 || rows.0 as u32 >= band_end {
+                        continue;
+                    }
+                    let set_up = Cell::new(false);
+                    let planes = carry.planes(t, rows, band_y0, band_end, || {
+                        set_up.set(true);
+                        planes_of(t)
+                    });
+                    assert_eq!(planes, planes_of(t), "frame {frame} triangle {t}");
+                    // Only a triangle that began above the band is carried.
+                    assert!(set_up.get() || rows.0 < band_y0);
+                }
+            }
+            carried += carry.carried;
+        }
+        assert!(carried > 1_000, "{carried}");
     }
 }

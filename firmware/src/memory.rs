@@ -27,11 +27,12 @@
 //! // per object its transform.
 //! assert!(Workspace::BYTES > 600 * 12 + 1000 * 6 + 241 * 4 + 240 * 3);
 //! assert!(Workspace::BYTES < 16 * 1024);
-//! // An optional sixth size keeps the color polynomials of that many
-//! // triangles from one band to the next, so a triangle that spans several
-//! // bands sets up its colors once (152 bytes each).
+//! // An optional sixth size keeps the color planes of triangles from one
+//! // band to the next in that many entries (80 bytes each, two for a
+//! // large quadratic), so a triangle that spans several bands lights and
+//! // fits its colors once.
 //! type CarryingWorkspace = WorkspaceMemory<240, 240, 2, 600, 1000, 8>;
-//! assert_eq!(CarryingWorkspace::BYTES, Workspace::BYTES + 8 * 152);
+//! assert_eq!(CarryingWorkspace::BYTES, Workspace::BYTES + 8 * 80);
 //!
 //! // On a device these are `static`s (see the crate documentation).
 //! let mut fragments = Box::new(Fragments::new());
@@ -236,9 +237,10 @@ const _: () = assert!(core::mem::size_of::<RowStarts<7>>() == 8 * 4);
 ///
 /// `CARRIED` entries keep the color planes of triangles that reach into the
 /// next band, so that band does not light and fit them again
-/// ([`defaults::CARRIED_COLORS`]: 48 entries of 160 bytes save the teapot
-/// about 2 M instructions a frame on the Cortex-M4 in 6-row bands). The
-/// image does not depend on it; 0, the default, carries nothing.
+/// ([`defaults::CARRIED_COLORS`] entries of 80 bytes, a large quadratic
+/// taking two, at most [`crate::color_carry::MAX_ENTRIES`] used; in 6-row
+/// bands the default spares the teapot about 800 color setups a frame).
+/// The image does not depend on it; 0, the default, carries nothing.
 pub struct WorkspaceMemory<
     const WIDTH: usize,
     const HEIGHT: usize,
@@ -342,10 +344,12 @@ pub mod defaults {
     /// Fragment slots per pixel of the fixed-allocation methods (`N_fixed`).
     pub const FIXED_SLOTS: u8 = 3;
     /// Entries of the carried-colors table
-    /// ([`WorkspaceMemory`](super::WorkspaceMemory)'s `CARRIED`): in 6-row
-    /// bands the teapot has at most about 40 triangles with kept colors
-    /// reaching into the next band.
-    pub const CARRIED_COLORS: usize = 55;
+    /// ([`WorkspaceMemory`](super::WorkspaceMemory)'s `CARRIED`), 80 bytes
+    /// each: in 6-row bands the spheres have at most about 60 triangles with
+    /// kept colors reaching into the next band (a wide quadratic takes two
+    /// entries).
+    pub const CARRIED_COLORS: usize = 104;
+    const _: () = assert!(CARRIED_COLORS <= crate::color_carry::MAX_ENTRIES);
     /// Bytes of RAM the firmware build scripts and `host-sim fit` keep free
     /// for the stack (the deepest frame measured is about 7.6 KB).
     pub const STACK_RESERVE_BYTES: usize = 10 * 1024;

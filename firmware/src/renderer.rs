@@ -815,7 +815,8 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
             // Nothing else borrows the table while colors are set up.
             if worth_carrying {
                 if let Ok(mut carry) = frame.carry.try_borrow_mut() {
-                    return carry.planes(t, setup, y0, band_end, source);
+                    let rows = (setup.y0, setup.y1);
+                    return carry.planes(t, rows, y0, band_end, || setup.color_planes(source()));
                 }
             }
             setup.color_planes(source())

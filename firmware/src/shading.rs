@@ -1277,6 +1277,48 @@ mod tests {
     }
 
     #[test]
+    fn narrow_coefficients_are_words_above_the_dropped_bits() {
+        // What the carried-colors table relies on to keep a polynomial that
+        // walks in `i32` in one word per coefficient.
+        let mut rng = Rng(0x00c0_ffee_1234_8765);
+        let mut narrow = 0;
+        for n in 0..20_000 {
+            let (w, h) = if n % 2 == 0 { (128, 128) } else { (40, 24) };
+            let (xs, ys) = random_triangle(&mut rng, w, h);
+            let Some((origin, size)) = bounding_box(&xs, &ys, w, h) else {
+                continue;
+            };
+            let samples = random_samples(&mut rng);
+            let Some(p) = fit_quadratic(&xs, &ys, origin, size, &samples) else {
+                continue;
+            };
+            if !walks_in_i32(&p, size) {
+                continue;
+            }
+            narrow += 1;
+            for q in &p {
+                for k in [q.a, q.b, q.c, q.d, q.e, q.f] {
+                    let word = k >> NARROW_QUADRATIC_DROPPED_BITS;
+                    assert_eq!(word << NARROW_QUADRATIC_DROPPED_BITS, k, "{q:?}");
+                    assert_eq!(word as i32 as i64, word, "{q:?}");
+                }
+            }
+        }
+        assert!(narrow > 5_000, "{narrow}");
+        // At the bound: a value coefficient as large as the walk takes.
+        let big = (((1i64 << 31) - (1 << 20)) << NARROW_QUADRATIC_DROPPED_BITS) - 256;
+        let p = QuadraticPolynomial {
+            f: big,
+            ..QuadraticPolynomial::ZERO
+        };
+        assert!(walks_in_i32(&[p; 3], (1, 1)));
+        assert_eq!(
+            (big >> NARROW_QUADRATIC_DROPPED_BITS) as i32 as i64,
+            big >> 8
+        );
+    }
+
+    #[test]
     fn stepping_equals_direct_evaluation_exactly() {
         let mut rng = Rng(0x0fed_cba9_8765_4321);
         let mut checked_pixels = 0u64;
