@@ -607,7 +607,6 @@ fn setup_vertex(v: &ScreenVertex) -> SetupVertex {
         x: v.x(),
         y: v.y(),
         z: v.z(),
-        color: v.color().map(|c| (c as i32) << 8),
     }
 }
 
@@ -735,7 +734,9 @@ fn color_source<'f>(
     ctx: &'f FrameContext<'_, '_>,
     objects: &[ObjectFrame],
     t: u32,
+    corners: &[ScreenVertex; 3],
 ) -> ColorSource<'f> {
+    let colors = || corners.map(|p| p.color().map(|c| (c as i32) << 8));
     let (o, i) = split(t);
     let object = &ctx.scene.objects[o];
     let eye_normals = || {
@@ -746,12 +747,15 @@ fn color_source<'f>(
         })
     };
     match (ctx.shading(o), &ctx.light) {
-        (Shading::Gouraud, Some(_)) => ColorSource::Linear,
-        (Shading::Quadratic, Some(light)) => ColorSource::Quadratic(TriangleLighting {
-            normals: eye_normals(),
-            light,
-            base: object.color,
-        }),
+        (Shading::Gouraud, Some(_)) => ColorSource::Linear(colors()),
+        (Shading::Quadratic, Some(light)) => ColorSource::Quadratic(
+            TriangleLighting {
+                normals: eye_normals(),
+                light,
+                base: object.color,
+            },
+            colors(),
+        ),
         (Shading::Phong, Some(light)) => ColorSource::Phong(TriangleLighting {
             normals: eye_normals(),
             light,
@@ -811,7 +815,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         let worth_carrying = ctx.shading(o) == Shading::Quadratic;
         let lazy = |setup: &TriangleSetup| {
             frame.color_requests.set(frame.color_requests.get() + 1);
-            let source = || color_source(ctx, frame.objects, t);
+            let source = || color_source(ctx, frame.objects, t, &v);
             // Nothing else borrows the table while colors are set up.
             if worth_carrying {
                 if let Ok(mut carry) = frame.carry.try_borrow_mut() {
@@ -831,7 +835,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         let _ = buffer.draw_triangle(&v.map(|p| setup_vertex(&p)), &params, y0, rows);
         return;
     }
-    let colors = color_source(ctx, frame.objects, t);
+    let colors = color_source(ctx, frame.objects, t, &v);
     let params = DrawParams {
         cull_backfaces: object.cull_backfaces,
         colors: &|setup: &TriangleSetup| setup.color_planes(colors),
@@ -842,7 +846,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     let transform = &frame.objects[o].transform;
     let tri = object.mesh.triangles[i];
     let normals = match colors {
-        ColorSource::Quadratic(lighting) | ColorSource::Phong(lighting) => lighting.normals,
+        ColorSource::Quadratic(lighting, _) | ColorSource::Phong(lighting) => lighting.normals,
         _ => [[0; 3]; 3],
     };
     let clip_in: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
@@ -860,23 +864,19 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     let projected: [SetupVertex; crate::clip::MAX_CLIPPED_VERTICES] = core::array::from_fn(|k| {
         if k < poly.len {
             let (x, y, z) = project(&poly.vertices[k].clip);
-            SetupVertex {
-                x,
-                y,
-                z,
-                color: poly.vertices[k].color,
-            }
+            SetupVertex { x, y, z }
         } else {
             SetupVertex::default()
         }
     });
     for k in 1..poly.len - 1 {
         stats.triangle_setups += 1;
-        let mut fan = [projected[0], projected[k], projected[k + 1]];
-        // Quadratic and Phong pieces need their corners' normals (and lit colors).
+        let fan = [projected[0], projected[k], projected[k + 1]];
+        // Pieces take their corners' colors; quadratic and Phong pieces
+        // their normals too (and quadratic ones relight the corners).
         let corner_normals = [0, k, k + 1].map(|c| poly.vertices[c].normal);
-        let mut corner_colors = fan.map(|p| p.color);
-        let piece_colors = clipped_piece_source(colors, &corner_normals, &mut corner_colors);
+        let corner_colors = [0, k, k + 1].map(|c| poly.vertices[c].color);
+        let piece_colors = clipped_piece_source(colors, &corner_normals, corner_colors);
         // Pieces are not carried: their planes are their own.
         let piece_source = |setup: &TriangleSetup| {
             frame.color_requests.set(frame.color_requests.get() + 1);
@@ -886,9 +886,6 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
             colors: &piece_source,
             ..params
         };
-        for (p, c) in fan.iter_mut().zip(corner_colors) {
-            p.color = c;
-        }
         // A piece may be degenerate or off screen; nothing to count then.
         let _ = buffer.draw_triangle(&fan, &piece, y0, rows);
     }

@@ -33,8 +33,6 @@ pub struct SetupVertex {
     pub y: i32,
     /// Depth, 24 fraction bits, `0 ..= DEPTH_MAX`.
     pub z: u32,
-    /// Color, Q8, `0 ..= 255 * 256` (used by linear shading).
-    pub color: ColorQ8,
 }
 
 /// How fragment colors are produced across a triangle.
@@ -42,11 +40,14 @@ pub struct SetupVertex {
 pub enum ColorSource<'l> {
     /// One color for the whole triangle.
     Constant(Rgb888),
-    /// Vertex colors interpolated linearly in screen space (Gouraud).
-    Linear,
-    /// A quadratic through the vertex colors and the lit edge midpoints, stepped
-    /// by forward differences (SPEC section 8, [`crate::shading`]).
-    Quadratic(TriangleLighting<'l>),
+    /// The vertex colors (Q8, `0 ..= 255 * 256`, in the order of the
+    /// vertices given to setup) interpolated linearly in screen space
+    /// (Gouraud).
+    Linear([ColorQ8; 3]),
+    /// A quadratic through the vertex colors (the second field, as for
+    /// [`ColorSource::Linear`]) and the lit edge midpoints, stepped by forward
+    /// differences (SPEC section 8, [`crate::shading`]).
+    Quadratic(TriangleLighting<'l>, [ColorQ8; 3]),
     /// The normal interpolated linearly in screen space and lit at every pixel
     /// (Phong; the reference).
     Phong(TriangleLighting<'l>),
@@ -160,8 +161,6 @@ pub(crate) struct Corners {
     xs: [i32; 3],
     /// y in 1/16 pixel, clamped to the guard band.
     ys: [i32; 3],
-    /// Vertex colors (Q8).
-    colors: [ColorQ8; 3],
     /// Whether vertices 1 and 2 were swapped to make the edges positive inside.
     swapped: bool,
     /// The reciprocal of twice the area.
@@ -441,8 +440,6 @@ impl TriangleSetup {
     #[inline(always)]
     pub(crate) fn build_with(accepted: &Accepted<'_>, depth: DepthSetup) -> Self {
         let Accepted {
-            vertices,
-            order,
             xs,
             ys,
             x0,
@@ -451,7 +448,6 @@ impl TriangleSetup {
             y1,
             ..
         } = *accepted;
-        let v = order.map(|k| &vertices[k]);
         let swapped = accepted.swapped();
         let (cx, cy) = first_center(accepted);
         let wide = |a: i32, b: i32| a as i64 * b as i64;
@@ -480,7 +476,6 @@ impl TriangleSetup {
             corners: Corners {
                 xs,
                 ys,
-                colors: v.map(|p| p.color),
                 swapped,
                 area2: depth.area2,
             },
@@ -515,7 +510,6 @@ impl TriangleSetup {
         let Corners {
             xs,
             ys,
-            colors,
             swapped,
             area2,
         } = self.corners;
@@ -523,8 +517,14 @@ impl TriangleSetup {
         let (x0, y0) = (self.x0 as i64, self.y0 as i64);
         let half = 1i64 << (SUBPIXEL_BITS - 1);
         let center = ((x0 << SUBPIXEL_BITS) + half, (y0 << SUBPIXEL_BITS) + half);
-        let linear = || color_planes(&colors, &xs, &ys, center, area2);
-        // Normals follow the vertices' order.
+        let linear = |colors: &[ColorQ8; 3]| color_planes(colors, &xs, &ys, center, area2);
+        // Colors and normals follow the vertices' order.
+        let ordered_colors = |mut colors: [ColorQ8; 3]| {
+            if swapped {
+                colors.swap(1, 2);
+            }
+            colors
+        };
         let ordered = |mut lighting: TriangleLighting<'l>| {
             if swapped {
                 lighting.normals.swap(1, 2);
@@ -533,8 +533,9 @@ impl TriangleSetup {
         };
         match source {
             ColorSource::Constant(c) => ColorPlanes::Constant(c),
-            ColorSource::Linear => ColorPlanes::Linear(linear()),
-            ColorSource::Quadratic(lighting) => {
+            ColorSource::Linear(colors) => ColorPlanes::Linear(linear(&ordered_colors(colors))),
+            ColorSource::Quadratic(lighting, colors) => {
+                let colors = ordered_colors(colors);
                 let samples = QuadraticSamples {
                     vertices: colors,
                     midpoints: light_midpoints(&ordered(lighting), &colors),
@@ -551,7 +552,7 @@ impl TriangleSetup {
                     }
                     Some(channels) => ColorPlanes::Quadratic(channels),
                     // Samples on a plane, or a sliver far thinner than its box.
-                    None => ColorPlanes::Linear(linear()),
+                    None => ColorPlanes::Linear(linear(&colors)),
                 }
             }
             ColorSource::Phong(lighting) => {

@@ -594,28 +594,29 @@ pub fn light_midpoints(lighting: &TriangleLighting, vertex_colors: &[ColorQ8; 3]
     })
 }
 
-/// The color source for one piece of a clipped triangle whose corners carry the
-/// interpolated normals `normals` (no longer unit length): quadratic and Phong
-/// sources take them renormalized, and quadratic pieces relight their corner
-/// colors `corner_colors` (which clipping interpolated linearly). Other sources
-/// are returned unchanged.
+/// The color source for one piece of a clipped triangle whose corners carry
+/// the interpolated normals `normals` (no longer unit length) and colors
+/// `corner_colors` (which clipping interpolated linearly): linear sources
+/// take the corner colors; quadratic ones take the normals renormalized and
+/// the corners relit with them; Phong sources take the normals
+/// renormalized. Other sources are returned unchanged.
 pub fn clipped_piece_source<'l>(
     source: ColorSource<'l>,
     normals: &[[i32; 3]; 3],
-    corner_colors: &mut [ColorQ8; 3],
+    corner_colors: [ColorQ8; 3],
 ) -> ColorSource<'l> {
     let renormalized = |lighting: TriangleLighting<'l>| TriangleLighting {
         normals: normals.map(|n| normalize_unit(n.map(|c| c as i64)).unwrap_or([0; 3])),
         ..lighting
     };
     match source {
-        ColorSource::Quadratic(lighting) => {
+        ColorSource::Linear(_) => ColorSource::Linear(corner_colors),
+        ColorSource::Quadratic(lighting, _) => {
             let lighting = renormalized(lighting);
-            for k in 0..3 {
-                corner_colors[k] =
-                    round_to_8_bits(lighting.light.shade(&lighting.normals[k], lighting.base));
-            }
-            ColorSource::Quadratic(lighting)
+            let relit = core::array::from_fn(|k| {
+                round_to_8_bits(lighting.light.shade(&lighting.normals[k], lighting.base))
+            });
+            ColorSource::Quadratic(lighting, relit)
         }
         ColorSource::Phong(lighting) => ColorSource::Phong(renormalized(lighting)),
         other => other,

@@ -339,7 +339,6 @@ mod tests {
             x: x * 16,
             y: y * 16,
             z,
-            color: [0; 3],
         }
     }
 

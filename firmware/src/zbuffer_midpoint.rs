@@ -809,12 +809,35 @@ mod tests {
     const W: u16 = 48;
     const H: u16 = 32;
 
-    fn vertex(x: i32, y: i32, z: u32, c: i32) -> SetupVertex {
-        SetupVertex {
-            x,
-            y,
-            z,
+    /// A corner of a test triangle: where it is and its Gouraud color.
+    #[derive(Clone, Copy, Debug)]
+    struct TestVertex {
+        at: SetupVertex,
+        color: crate::lighting::ColorQ8,
+    }
+
+    fn vertex(x: i32, y: i32, z: u32, c: i32) -> TestVertex {
+        TestVertex {
+            at: SetupVertex { x, y, z },
             color: [c << 8, (255 - c) << 8, 128 << 8],
+        }
+    }
+
+    /// How the test triangles are colored.
+    #[derive(Clone, Copy)]
+    enum Shade {
+        /// Their corners' colors, interpolated.
+        Gouraud,
+        /// One color.
+        Constant(Rgb888),
+    }
+
+    impl Shade {
+        fn source(self, t: &[TestVertex; 3]) -> ColorSource<'static> {
+            match self {
+                Shade::Gouraud => ColorSource::Linear(t.map(|v| v.color)),
+                Shade::Constant(c) => ColorSource::Constant(c),
+            }
         }
     }
 
@@ -831,8 +854,8 @@ mod tests {
     /// image and the counters.
     fn draw<B: BandBuffer<Mask1x1>>(
         buffer: &mut B,
-        triangles: &[[SetupVertex; 3]],
-        colors: ColorSource,
+        triangles: &[[TestVertex; 3]],
+        colors: Shade,
         band: u16,
     ) -> (Vec<Rgb888>, BufferStats) {
         let bg = Rgb888::new(1, 2, 3);
@@ -843,8 +866,8 @@ mod tests {
             let rows = band.min(H - y0);
             buffer.begin_band(y0, rows);
             for t in triangles {
-                let source = |s: &TriangleSetup| s.color_planes(colors);
-                let _ = buffer.draw_triangle(t, &params(&source), y0, rows);
+                let source = |s: &TriangleSetup| s.color_planes(colors.source(t));
+                let _ = buffer.draw_triangle(&t.map(|v| v.at), &params(&source), y0, rows);
             }
             for row in 0..rows {
                 buffer.resolve_row(row, bg, &mut line);
@@ -856,8 +879,8 @@ mod tests {
     }
 
     fn plain(
-        triangles: &[[SetupVertex; 3]],
-        colors: ColorSource,
+        triangles: &[[TestVertex; 3]],
+        colors: Shade,
         band: u16,
     ) -> (Vec<Rgb888>, BufferStats) {
         let n = W as usize * band as usize;
@@ -871,8 +894,8 @@ mod tests {
     }
 
     fn midpoint(
-        triangles: &[[SetupVertex; 3]],
-        colors: ColorSource,
+        triangles: &[[TestVertex; 3]],
+        colors: Shade,
         band: u16,
         config: MidpointConfig,
     ) -> (Vec<Rgb888>, BufferStats, usize) {
@@ -881,8 +904,8 @@ mod tests {
 
     /// As [`midpoint`]; `merge: false` draws every piece on its own.
     fn midpoint_merging(
-        triangles: &[[SetupVertex; 3]],
-        colors: ColorSource,
+        triangles: &[[TestVertex; 3]],
+        colors: Shade,
         band: u16,
         config: MidpointConfig,
         merge: bool,
@@ -895,7 +918,7 @@ mod tests {
         (image, stats, buffer.stack_peak())
     }
 
-    fn random_triangles(seed: u32, n: usize) -> Vec<[SetupVertex; 3]> {
+    fn random_triangles(seed: u32, n: usize) -> Vec<[TestVertex; 3]> {
         let mut rng = Rng(seed);
         (0..n)
             .map(|_| {
@@ -922,7 +945,7 @@ mod tests {
                         max_depth: k + 2,
                         test_visible_pixels: safe,
                     };
-                    let colors = ColorSource::Linear;
+                    let colors = Shade::Gouraud;
                     let (a, sa, _) = midpoint_merging(&triangles, colors, band, config, true);
                     let (b, sb, _) = midpoint_merging(&triangles, colors, band, config, false);
                     assert!(a == b, "K = {k}, safe {safe}, band {band}");
@@ -960,10 +983,7 @@ mod tests {
                 )
             };
             let t = [p(), p(), p()];
-            for colors in [
-                ColorSource::Linear,
-                ColorSource::Constant(Rgb888::new(9, 8, 7)),
-            ] {
+            for colors in [Shade::Gouraud, Shade::Constant(Rgb888::new(9, 8, 7))] {
                 let (expected, expected_stats) = plain(&[t], colors, H);
                 for k in 0..=5 {
                     let config = MidpointConfig {
@@ -1033,7 +1053,7 @@ mod tests {
             vertex(500, 0, 100, 200),
             vertex(0, 300, 100, 200),
         ];
-        let colors = ColorSource::Linear;
+        let colors = Shade::Gouraud;
         for k in 0..=MAX_SUBDIVISION_DEPTH {
             for band in [H, 16, 5] {
                 let config = MidpointConfig {
@@ -1097,7 +1117,7 @@ mod tests {
             vertex(400, 60, 9000, 99),
             vertex(90, 200, 9000, 99),
         ];
-        let colors = ColorSource::Linear;
+        let colors = Shade::Gouraud;
         for band in [H, 16] {
             let (only_occluder, occluder_stats, _) =
                 midpoint(&[occluder], colors, band, MidpointConfig::DEFAULT);
@@ -1130,8 +1150,8 @@ mod tests {
             max_depth: 0,
             test_visible_pixels: false,
         };
-        let (image, stats, _) = midpoint(&[t], ColorSource::Linear, 8, config);
-        assert!(image == plain(&[t], ColorSource::Linear, 8).0);
+        let (image, stats, _) = midpoint(&[t], Shade::Gouraud, 8, config);
+        assert!(image == plain(&[t], Shade::Gouraud, 8).0);
         assert_eq!(stats.untested_writes, 0);
         assert_eq!(stats.culling_depth_tests, 0);
         assert_eq!(stats.depth_tests, stats.fragments_stored);
@@ -1151,7 +1171,7 @@ mod tests {
             vertex(760, 100, 8000, 0),
             vertex(380, 500, 8000, 0),
         ];
-        let colors = ColorSource::Linear;
+        let colors = Shade::Gouraud;
         let config = MidpointConfig {
             initial_subdivisions: 0,
             max_depth: 0,

@@ -184,13 +184,14 @@ fn run<M: CoverageMask>(u: &mut Unstructured<'_>) -> Result<()> {
         2048
     };
     let mut v = [SetupVertex::default(); 3];
-    for p in &mut v {
+    let mut vertex_colors = [[0; 3]; 3];
+    for (p, color) in v.iter_mut().zip(&mut vertex_colors) {
         *p = SetupVertex {
             x: coordinate(u, width)?,
             y: coordinate(u, height)?,
             z: depth(u)?,
-            color: color_q8(u)?,
         };
+        *color = color_q8(u)?;
     }
     // Slivers: the third vertex on or next to the line through the other two.
     if u.ratio(1u8, 4)? {
@@ -203,7 +204,7 @@ fn run<M: CoverageMask>(u: &mut Unstructured<'_>) -> Result<()> {
     let light;
     let colors = match kind {
         0 => ColorSource::Constant(Rgb888::new(u.arbitrary()?, 1, 2)),
-        1 => ColorSource::Linear,
+        1 => ColorSource::Linear(vertex_colors),
         _ => {
             let (normals, setup, base) = lighting(u)?;
             light = setup;
@@ -213,7 +214,7 @@ fn run<M: CoverageMask>(u: &mut Unstructured<'_>) -> Result<()> {
                 base,
             };
             if kind == 2 {
-                ColorSource::Quadratic(lit)
+                ColorSource::Quadratic(lit, vertex_colors)
             } else {
                 ColorSource::Phong(lit)
             }

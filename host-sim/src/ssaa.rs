@@ -68,7 +68,6 @@ impl WindowVertex {
             x: self.x,
             y: self.y,
             z: self.z,
-            color: self.color,
         }
     }
 }
@@ -291,6 +290,7 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
         for tri in mesh.triangles {
             let pv = tri.map(|i| vertices[i as usize]);
             let normals = pv.map(|p| p.normal);
+            let colors = pv.map(|p| p.window.color);
             let source = match (shading, &light) {
                 (Shading::Flat, Some(l)) => {
                     let mut sum = [0i64; 3];
@@ -305,12 +305,15 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
                     };
                     ColorSource::Constant(Rgb888::new(c[0], c[1], c[2]))
                 }
-                (Shading::Gouraud, Some(_)) => ColorSource::Linear,
-                (Shading::Quadratic, Some(light)) => ColorSource::Quadratic(TriangleLighting {
-                    normals,
-                    light,
-                    base,
-                }),
+                (Shading::Gouraud, Some(_)) => ColorSource::Linear(colors),
+                (Shading::Quadratic, Some(light)) => ColorSource::Quadratic(
+                    TriangleLighting {
+                        normals,
+                        light,
+                        base,
+                    },
+                    colors,
+                ),
                 (Shading::Phong, Some(light)) => ColorSource::Phong(TriangleLighting {
                     normals,
                     light,
@@ -341,7 +344,7 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
             } else {
                 geometry.triangles_clipped += 1;
                 let per_pixel_normals =
-                    matches!(source, ColorSource::Quadratic(_) | ColorSource::Phong(_));
+                    matches!(source, ColorSource::Quadratic(..) | ColorSource::Phong(_));
                 let clip_in: [ClipVertex; 3] = std::array::from_fn(|k| ClipVertex {
                     clip: transform.to_clip(&mesh.positions[tri[k] as usize]),
                     color: color_q8(Rgb888::new(
@@ -371,14 +374,11 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
                         })
                         .collect();
                     for k in 1..poly.len - 1 {
-                        let mut fan = [window[0], window[k], window[k + 1]];
+                        let fan = [window[0], window[k], window[k + 1]];
                         // Per-pixel shading relights the pieces' corners.
                         let normals = [0, k, k + 1].map(|c| corners[c].normal);
-                        let mut colors = fan.map(|p| p.color);
-                        let piece = clipped_piece_source(source, &normals, &mut colors);
-                        for (p, c) in fan.iter_mut().zip(colors) {
-                            p.color = c;
-                        }
+                        let colors = fan.map(|p| p.color);
+                        let piece = clipped_piece_source(source, &normals, colors);
                         if let Ok(t) = set_up(&fan, object.cull_backfaces, piece, width, height) {
                             geometry.triangle_setups += 1;
                             // Clipped triangles are visited from row 0.

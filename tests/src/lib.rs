@@ -458,12 +458,7 @@ pub fn visiting_order(scene: &OwnedScene) -> Vec<((usize, usize), Option<u16>)> 
             } else {
                 let sv = clip.map(|c| {
                     let (x, y, z) = project(&c);
-                    SetupVertex {
-                        x,
-                        y,
-                        z,
-                        color: [0; 3],
-                    }
+                    SetupVertex { x, y, z }
                 });
                 let area2 = signed_area2(&sv);
                 let min_x = sv.iter().map(|v| v.x).min().unwrap_or(0) >> 4;

@@ -14,7 +14,7 @@ use mcu_abuffer::fragment_buffer::{
     BufferConfig, BufferError, BufferStorage, FragmentBuffer, OverflowPolicy,
 };
 use mcu_abuffer::geometry::{outcode, project, ObjectTransform, ViewBasis};
-use mcu_abuffer::lighting::LightSetup;
+use mcu_abuffer::lighting::{ColorQ8, LightSetup};
 use mcu_abuffer::merge::merge_fragments;
 use mcu_abuffer::raster::rasterize;
 use mcu_abuffer::renderer::RenderError;
@@ -260,12 +260,18 @@ fn setup_and_rasterization_at_the_guard_band() {
     };
     let mut gouraud = 0;
     for i in 0..60_000 {
-        let mut v: [SetupVertex; 3] = core::array::from_fn(|_| SetupVertex {
-            x: corner[rng.below(corner.len() as u64) as usize],
-            y: corner[rng.below(corner.len() as u64) as usize],
-            z: if rng.chance(0.5) { 0 } else { DEPTH_MAX },
-            color: [0, 255 << 8, if rng.chance(0.5) { 0 } else { 255 << 8 }],
+        let corners: [(SetupVertex, ColorQ8); 3] = core::array::from_fn(|_| {
+            (
+                SetupVertex {
+                    x: corner[rng.below(corner.len() as u64) as usize],
+                    y: corner[rng.below(corner.len() as u64) as usize],
+                    z: if rng.chance(0.5) { 0 } else { DEPTH_MAX },
+                },
+                [0, 255 << 8, if rng.chance(0.5) { 0 } else { 255 << 8 }],
+            )
         });
+        let mut v = corners.map(|(at, _)| at);
+        let vertex_colors = corners.map(|(_, color)| color);
         if i % 2 == 0 {
             // A sliver: twice its area is 1 in (1/16 pixel)^2, across the band.
             let k = rng.range(1, 1 << 16);
@@ -287,8 +293,8 @@ fn setup_and_rasterization_at_the_guard_band() {
             base: Rgb888::new(255, 255, 255),
         };
         let colors = match i % 4 {
-            0 | 1 => ColorSource::Linear,
-            2 => ColorSource::Quadratic(lit),
+            0 | 1 => ColorSource::Linear(vertex_colors),
+            2 => ColorSource::Quadratic(lit, vertex_colors),
             _ => ColorSource::Phong(lit),
         };
         let (w, h) = if rng.chance(0.5) {
@@ -364,7 +370,6 @@ fn triangles_under_1024_pixels_walk_in_32_bits() {
             x,
             y,
             z: DEPTH_MAX / 2,
-            color: [255 << 8; 3],
         });
         let Ok(setup) = TriangleSetup::new(&v, false, 2048, 2048) else {
             continue;

@@ -132,7 +132,6 @@ fn draw<M: CoverageMask>(tris: &[Tri], what: &str) -> SampleCounter<M> {
             x: x as i32,
             y: y as i32,
             z: 1000,
-            color: [0; 3],
         });
         let setup = match TriangleSetup::new(&v, false, W, H) {
             Ok(s) => s,
@@ -143,7 +142,7 @@ fn draw<M: CoverageMask>(tris: &[Tri], what: &str) -> SampleCounter<M> {
         counter.on_edge += on_edge_samples::<M>(&setup);
         counter.new.clear();
         rasterize::<M, _, _>(&setup, 0, H, &mut counter, || {
-            setup.color_planes(ColorSource::Linear)
+            setup.color_planes(ColorSource::Linear([[0; 3]; 3]))
         });
         let new = std::mem::take(&mut counter.new);
         check_exact::<M>(t, &new, what);
@@ -694,18 +693,13 @@ fn gap_is_detected() {
 /// overflow checks are on, as in the test profile of `cargo test`.)
 #[test]
 fn rasterize_with_an_empty_band_draws_nothing() {
-    let v = |x, y| SetupVertex {
-        x,
-        y,
-        z: 100,
-        color: [0; 3],
-    };
+    let v = |x, y| SetupVertex { x, y, z: 100 };
     let setup = TriangleSetup::new(&[v(0, 0), v(64, 0), v(0, 64)], false, W, H).expect("setup");
     let mut counter = SampleCounter::<Mask4x4>::new();
     counter.begin_band(0, H);
     for band_y0 in [5, 0] {
         rasterize::<Mask4x4, _, _>(&setup, band_y0, 0, &mut counter, || {
-            setup.color_planes(ColorSource::Linear)
+            setup.color_planes(ColorSource::Linear([[0; 3]; 3]))
         });
     }
     assert_eq!(counter.stats().fragments_generated, 0);
