@@ -68,7 +68,7 @@ enum Held {
 }
 
 /// One entry of the carried-colors table: color planes of a triangle (or
-/// half of them, see [`Held`]) and the last image row it covers.
+/// half of a large quadratic's) and the last image row it covers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CarriedColors {
     words: [i64; ENTRY_WORDS],
