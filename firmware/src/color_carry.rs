@@ -75,8 +75,7 @@ pub struct CarriedColors {
     /// [`key_of`] the triangle, or [`NO_TRIANGLE`].
     key: u32,
     last_row: u16,
-    /// A [`Held`].
-    held: u8,
+    held: Held,
     /// The other entry of a two-entry quadratic (this entry's own index
     /// otherwise).
     partner: u8,
@@ -89,7 +88,7 @@ impl CarriedColors {
         words: [0; ENTRY_WORDS],
         key: NO_TRIANGLE,
         last_row: 0,
-        held: Held::Linear as u8,
+        held: Held::Linear,
         partner: 0,
     };
 
@@ -110,47 +109,39 @@ impl Default for CarriedColors {
 /// Coefficient `j` (`a` to `f`, channel after channel) of `p`.
 #[inline(always)]
 fn coefficient(p: &[QuadraticPolynomial; 3], j: usize) -> i64 {
-    let q = &p[j / 6];
-    [q.a, q.b, q.c, q.d, q.e, q.f][j % 6]
+    p[j / 6].coefficients()[j % 6]
 }
 
 /// The polynomials whose coefficient `j` (as [`coefficient`] counts them)
 /// is `k(j)`.
 #[inline(always)]
 fn polynomials(k: impl Fn(usize) -> i64) -> [QuadraticPolynomial; 3] {
-    core::array::from_fn(|c| QuadraticPolynomial {
-        a: k(6 * c),
-        b: k(6 * c + 1),
-        c: k(6 * c + 2),
-        d: k(6 * c + 3),
-        e: k(6 * c + 4),
-        f: k(6 * c + 5),
+    core::array::from_fn(|c| {
+        QuadraticPolynomial::from_coefficients(core::array::from_fn(|j| k(6 * c + j)))
     })
 }
 
 /// The color planes an entry holding `held` keeps in `first` (and, for a
 /// [`Held::Quadratic`], its partner entry's, `rest`).
 #[inline(always)]
-fn load(held: u8, first: &[i64; ENTRY_WORDS], rest: &[i64; ENTRY_WORDS]) -> ColorPlanes {
-    if held == Held::Linear as u8 {
-        ColorPlanes::Linear(core::array::from_fn(|c| Plane {
+fn load(held: Held, first: &[i64; ENTRY_WORDS], rest: &[i64; ENTRY_WORDS]) -> ColorPlanes {
+    match held {
+        Held::Linear => ColorPlanes::Linear(core::array::from_fn(|c| Plane {
             origin: first[3 * c],
             dx: first[3 * c + 1],
             dy: first[3 * c + 2],
-        }))
-    } else if held == Held::NarrowQuadratic as u8 {
-        ColorPlanes::NarrowQuadratic(polynomials(|j| {
+        })),
+        Held::NarrowQuadratic => ColorPlanes::NarrowQuadratic(polynomials(|j| {
             let half = (first[j / 2] >> (32 * (j % 2))) as i32;
             (half as i64) << NARROW_QUADRATIC_DROPPED_BITS
-        }))
-    } else {
-        ColorPlanes::Quadratic(polynomials(|j| {
+        })),
+        Held::Quadratic | Held::QuadraticRest => ColorPlanes::Quadratic(polynomials(|j| {
             if j < ENTRY_WORDS {
                 first[j]
             } else {
                 rest[j - ENTRY_WORDS]
             }
-        }))
+        })),
     }
 }
 
@@ -254,7 +245,9 @@ impl<'a> ColorCarry<'a> {
             }
             ColorPlanes::Quadratic(p) => self.keep(key, last_row, band_y0, true, |first, rest| {
                 *first = core::array::from_fn(|i| coefficient(p, i));
-                *rest = core::array::from_fn(|i| coefficient(p, ENTRY_WORDS + i));
+                if let Some(rest) = rest {
+                    *rest = core::array::from_fn(|i| coefficient(p, ENTRY_WORDS + i));
+                }
                 Held::Quadratic
             }),
             ColorPlanes::Constant(_) | ColorPlanes::Phong(_) => {}
@@ -266,7 +259,7 @@ impl<'a> ColorCarry<'a> {
     /// searched from after the entry found last.
     #[inline(always)]
     fn find(&self, key: u32) -> Option<usize> {
-        let found = |e: &CarriedColors| e.key == key && e.held != Held::QuadraticRest as u8;
+        let found = |e: &CarriedColors| e.key == key && e.held != Held::QuadraticRest;
         let cursor = self.cursor.min(self.entries.len());
         let (before, after) = self.entries.split_at(cursor);
         match after.iter().position(found) {
@@ -277,8 +270,8 @@ impl<'a> ColorCarry<'a> {
 
     /// Keeps planes of the triangle with `key`, which goes on to row
     /// `last_row` below the band at `band_y0`, in one entry or (`two`) in
-    /// two: `store` writes them (into the first entry's words and the
-    /// second's) and says what the first holds.
+    /// two: `store` writes them (into the first entry's words and, when
+    /// there are two, the second's) and says what the first holds.
     #[inline(always)]
     fn keep(
         &mut self,
@@ -286,7 +279,7 @@ impl<'a> ColorCarry<'a> {
         last_row: u16,
         band_y0: u16,
         two: bool,
-        store: impl FnOnce(&mut [i64; ENTRY_WORDS], &mut [i64; ENTRY_WORDS]) -> Held,
+        store: impl FnOnce(&mut [i64; ENTRY_WORDS], Option<&mut [i64; ENTRY_WORDS]>) -> Held,
     ) {
         // Only free entries are written: their triangles ended above the
         // band (no band asks for them again) or they hold nothing, so no
@@ -295,7 +288,6 @@ impl<'a> ColorCarry<'a> {
             return;
         };
         // An entry names itself as its partner when it holds everything.
-        let mut rest_words = [0; ENTRY_WORDS];
         let mut rest = first;
         if two {
             // Taken for now, so that the search passes over it.
@@ -307,19 +299,25 @@ impl<'a> ColorCarry<'a> {
             };
             rest = second;
         }
-        let held = store(&mut self.entries[first].words, &mut rest_words);
-        let e = &mut self.entries[first];
-        e.held = held as u8;
-        e.key = key;
-        e.last_row = last_row;
-        e.partner = rest as u8;
-        if two {
-            let e = &mut self.entries[rest];
-            e.words = rest_words;
-            e.held = Held::QuadraticRest as u8;
+        let label = |e: &mut CarriedColors, held: Held, partner: usize| {
+            e.held = held;
             e.key = key;
             e.last_row = last_row;
-            e.partner = first as u8;
+            e.partner = partner as u8;
+        };
+        if two {
+            // Two distinct entries within the table (from `free_entry`).
+            let Ok([a, b]) = self.entries.get_disjoint_mut([first, rest]) else {
+                self.entries[first].key = NO_TRIANGLE;
+                return;
+            };
+            let held = store(&mut a.words, Some(&mut b.words));
+            label(a, held, rest);
+            label(b, Held::QuadraticRest, first);
+        } else {
+            let e = &mut self.entries[first];
+            let held = store(&mut e.words, None);
+            label(e, held, first);
         }
     }
 

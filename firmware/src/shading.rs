@@ -176,6 +176,18 @@ impl QuadraticPolynomial {
         f: 0,
     };
 
+    /// The coefficients `[a, b, c, d, e, f]`.
+    #[inline(always)]
+    pub fn coefficients(&self) -> [i64; 6] {
+        [self.a, self.b, self.c, self.d, self.e, self.f]
+    }
+
+    /// The polynomial with coefficients `[a, b, c, d, e, f]`.
+    #[inline(always)]
+    pub fn from_coefficients([a, b, c, d, e, f]: [i64; 6]) -> Self {
+        Self { a, b, c, d, e, f }
+    }
+
     /// The polynomial evaluated directly at lattice point `(i, j)` (128-bit
     /// products; the result fits `i64` within the walked box).
     pub fn eval(&self, i: i64, j: i64) -> i64 {
@@ -971,7 +983,7 @@ pub fn walks_in_i32(p: &[QuadraticPolynomial; 3], size: (i64, i64)) -> bool {
     let (w, h) = (size.0 as u64, size.1 as u64);
     const DROPPED: i64 = (1 << NARROW_QUADRATIC_DROPPED_BITS) - 1;
     p.iter().all(|p| {
-        let ks = [p.a, p.b, p.c, p.d, p.e, p.f];
+        let ks = p.coefficients();
         // Each |k| below 2^40 first, so the sum below cannot overflow.
         let low_bits = ks.iter().fold(0, |or, k| or | k);
         let high = ks.iter().fold(0, |or, k| or | k.unsigned_abs());
@@ -1298,7 +1310,7 @@ mod tests {
             }
             narrow += 1;
             for q in &p {
-                for k in [q.a, q.b, q.c, q.d, q.e, q.f] {
+                for k in q.coefficients() {
                     let word = k >> NARROW_QUADRATIC_DROPPED_BITS;
                     assert_eq!(word << NARROW_QUADRATIC_DROPPED_BITS, k, "{q:?}");
                     assert_eq!(word as i32 as i64, word, "{q:?}");
