@@ -2,7 +2,7 @@
 
 use crate::coverage::CoverageMask;
 use crate::fragment::{fragment_depth, Fragment};
-use crate::raster::{band_test_of_box, rasterize, spans_hidden_of, BandTest};
+use crate::raster::{band_test_of_box, rasterize_rows, BandTest, RowRange};
 use crate::setup::{ColorPlanes, DepthSetup, Rejection, SetupVertex, TriangleSetup};
 use crate::shading::ColorWalk;
 use crate::stats::BufferStats;
@@ -216,14 +216,15 @@ pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
         }
     }
     let setup = TriangleSetup::build_with(&accepted, depth);
-    if let Some(rows) = ask_spans {
-        if spans_hidden_of(&setup, rows, buffer) {
-            return Ok(());
-        }
-    }
-    rasterize(&setup, band_y0, band_rows, buffer, || {
-        (params.colors)(&setup)
-    });
+    // With the pixel step still to ask, the probe starts where it stopped.
+    let (rows, test_spans) = match ask_spans {
+        Some(rows) => (rows, true),
+        None => match RowRange::in_band(&setup.screen_box(), band_y0, band_rows) {
+            Some(rows) => (rows, false),
+            None => return Ok(()),
+        },
+    };
+    rasterize_rows(&setup, rows, test_spans, buffer, || (params.colors)(&setup));
     Ok(())
 }
 

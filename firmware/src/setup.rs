@@ -154,6 +154,19 @@ pub struct TriangleSetup {
     pub(crate) corners: Corners,
 }
 
+impl TriangleSetup {
+    /// The bounding box on screen.
+    #[inline(always)]
+    pub(crate) fn screen_box(&self) -> ScreenBox {
+        ScreenBox {
+            x0: self.x0,
+            y0: self.y0,
+            x1: self.x1,
+            y1: self.y1,
+        }
+    }
+}
+
 /// The corners of a set-up triangle in edge order, for color setup.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Corners {
