@@ -768,6 +768,15 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
 
     #[inline]
     fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
+        if self.strips.kept {
+            let s = x as usize / STRIP_WIDTH;
+            if s < MAX_STRIPS
+                && self.strips.full_pixels[s] as usize == STRIP_WIDTH * self.rows as usize
+                && (self.strips.farthest[s] as i64) < depth
+            {
+                return true;
+            }
+        }
         let p = self.pixel_index(x, row);
         let n = self.counts[p] as usize;
         if n == 0 {
