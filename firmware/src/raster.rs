@@ -111,24 +111,23 @@ impl EdgeValue for i64 {
 }
 
 /// Coverage of the pixel whose center has edge values `e`, given each edge's
-/// margin (the largest change of that edge from the center to a sample).
-/// `None` when an edge has every sample outside (the pixel is ruled out).
+/// margin (the largest change of that edge from the center to a sample):
+/// an edge that clears the center by its margin covers every sample. Asked
+/// only within a row's span, where no edge is below minus its margin (an
+/// edge that were would give an empty mask all the same).
 #[inline(always)]
 fn pixel_coverage<M: CoverageMask, E: EdgeValue>(
     e: &[E; 3],
     edges: &[M::EdgeSamples; 3],
     margin: &[E; 3],
-) -> Option<M> {
-    if e[0] < -margin[0] || e[1] < -margin[1] || e[2] < -margin[2] {
-        return None;
-    }
+) -> M {
     let mut mask = M::FULL;
     for i in 0..3 {
         if e[i] < margin[i] {
             mask = mask & M::edge_coverage(&edges[i], e[i].near());
         }
     }
-    Some(mask)
+    mask
 }
 
 /// Whether every edge value over the rows `y_first..=y_last` of the bounding box
@@ -868,12 +867,11 @@ where
                         core::array::from_fn(|i| e[i] + edges.step_x[i].times($from as i64));
                     let (mut k, to) = ($from, $to);
                     while k < to {
-                        if let Some(mask) = pixel_coverage::<M, E>(&at, tables, &edges.margin) {
-                            if !mask.is_empty()
-                                && visitor.visit((x0 + k) as u16, row, mask, z, walk.color(&color))
-                            {
-                                return stop(k);
-                            }
+                        let mask = pixel_coverage::<M, E>(&at, tables, &edges.margin);
+                        if !mask.is_empty()
+                            && visitor.visit((x0 + k) as u16, row, mask, z, walk.color(&color))
+                        {
+                            return stop(k);
                         }
                         for i in 0..3 {
                             at[i] = at[i] + edges.step_x[i];
