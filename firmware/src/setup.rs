@@ -419,8 +419,18 @@ impl TriangleSetup {
         // Clamped corners fit `i32` (±2^16), their differences too (±2^17):
         // the products of setup are single 32 x 32 -> 64-bit multiplications.
         let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
-        let xs = order.map(|k| v[k].x.clamp(-lim, lim));
-        let ys = order.map(|k| v[k].y.clamp(-lim, lim));
+        // Vertices already within the guard band (every one that was not
+        // clipped) need no clamp: one unsigned comparison each says so.
+        let within = |c: i32| c.wrapping_add(lim) as u32 <= 2 * lim as u32;
+        let all_within = v.iter().all(|p| within(p.x) & within(p.y));
+        let (xs, ys) = if all_within {
+            (order.map(|k| v[k].x), order.map(|k| v[k].y))
+        } else {
+            (
+                order.map(|k| v[k].x.clamp(-lim, lim)),
+                order.map(|k| v[k].y.clamp(-lim, lim)),
+            )
+        };
         // Bounding box in pixels, clipped to the screen.
         let min_x = xs[0].min(xs[1]).min(xs[2]) >> SUBPIXEL_BITS;
         let max_x = xs[0].max(xs[1]).max(xs[2]) >> SUBPIXEL_BITS;
