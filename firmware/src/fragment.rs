@@ -36,6 +36,17 @@ impl<M: CoverageMask> Fragment<M> {
     pub fn depth_at(&self, col: u32, row: u32) -> i32 {
         ((self.z as i32) << 4) + self.dzdx * M::offset_x(col) + self.dzdy * M::offset_y(row)
     }
+
+    /// The largest [`Fragment::depth_at`] over the grid's samples: the same
+    /// as [`PackedFragment::farthest_sample_depth`] of the packed fragment.
+    /// Within one triangle only the depth changes, so a loop over its
+    /// pixels computes the gradients' part once.
+    #[inline]
+    pub fn farthest_sample_depth(&self) -> i32 {
+        ((self.z as i32) << 4)
+            + self.dzdx.abs() * M::max_offset_x()
+            + self.dzdy.abs() * M::max_offset_y()
+    }
 }
 
 /// Fraction bits of depth-plane values ([`crate::setup::Plane`]) beyond

@@ -244,9 +244,21 @@ impl StripSummary {
     /// Notes a fragment stored (or merged) at column `x`.
     #[inline]
     fn stored<M: CoverageMask>(&mut self, x: usize, f: &PackedFragment<M>) {
+        self.stored_farthest(x, f.farthest_sample_depth());
+    }
+
+    /// [`StripSummary::stored`] for a fragment not packed yet.
+    #[inline]
+    fn stored_fragment<M: CoverageMask>(&mut self, x: usize, f: &Fragment<M>) {
+        self.stored_farthest(x, f.farthest_sample_depth());
+    }
+
+    /// Notes a fragment whose farthest sample depth is `farthest` at column `x`.
+    #[inline(always)]
+    fn stored_farthest(&mut self, x: usize, farthest: i32) {
         if self.kept {
             let s = &mut self.farthest[x / STRIP_WIDTH];
-            *s = (*s).max(f.farthest_sample_depth());
+            *s = (*s).max(farthest);
         }
     }
 
@@ -462,7 +474,8 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         self.shift_later(p, k, n);
         let packed = PackedFragment::pack(f);
         self.write(p, k, packed);
-        self.strips.stored(p % self.config.width as usize, &packed);
+        self.strips
+            .stored_fragment(p % self.config.width as usize, f);
         true
     }
 
@@ -580,7 +593,7 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         let merged = PackedFragment::pack(&merged);
         let column = p % self.config.width as usize;
         self.strips.stored(column, &merged);
-        self.strips.stored(column, &PackedFragment::pack(f));
+        self.strips.stored_fragment(column, f);
         if k <= i {
             // Stored k..i-1 move one later; the merged one lands at i; f at k (if k < i).
             self.shift_later(p, k, i.saturating_sub(1).max(k));
@@ -654,7 +667,7 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
             self.write(p, i + 1, stored[i]);
         }
         self.write(p, k, packed);
-        self.strips.stored(x as usize, &packed);
+        self.strips.stored_fragment(x as usize, fragment);
         self.strips.covered(x as usize, covered, fragment.mask);
         self.counts[p] = N as u8 + 1;
         self.stats.fragments_stored += 1;
@@ -828,7 +841,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
             // The first fragment of a pixel goes to its first main slot.
             let packed = PackedFragment::pack(fragment);
             self.main[p * self.config.main_slots as usize] = packed;
-            self.strips.stored(x as usize, &packed);
+            self.strips.stored_fragment(x as usize, fragment);
             self.strips.covered(x as usize, M::EMPTY, fragment.mask);
             self.counts[p] = 1;
             // (A pixel holding one fragment is counted in `stats`.)
