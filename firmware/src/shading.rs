@@ -1014,21 +1014,22 @@ impl<V: QuadraticValue> QuadraticWalk<V> {
             cross: [V::from_i64(0); 3],
         };
         // Each result fits `i64` (see the module's ranges), so wrapping
-        // arithmetic gives it exactly even where a partial product does not.
+        // arithmetic gives it exactly even where a partial product does not;
+        // in `i32` the walk is exact modulo 2^32, and the dropped bits of
+        // every coefficient are zero, so the coefficients are narrowed first
+        // and the start computed in the walk's own type (the same integers
+        // as narrowing the `i64` results).
+        let j = V::from_i64(j);
+        let two_j_plus_one = j.plus(j).plus(V::from_i64(1));
         for (c, p) in p.iter().enumerate() {
-            // Exact: the dropped bits of every coefficient are zero.
-            let narrow = |v: i64| V::from_i64(v >> V::DROPPED_BITS);
-            walk.value[c] = narrow(
-                p.b.wrapping_mul(j)
-                    .wrapping_add(p.e)
-                    .wrapping_mul(j)
-                    .wrapping_add(p.f),
-            );
-            walk.first_x[c] = narrow(p.a.wrapping_add(p.c.wrapping_mul(j)).wrapping_add(p.d));
-            walk.first_y[c] = narrow(p.b.wrapping_mul(2 * j + 1).wrapping_add(p.e));
-            walk.second_x[c] = narrow(2 * p.a);
-            walk.second_y[c] = narrow(2 * p.b);
-            walk.cross[c] = narrow(p.c);
+            let [a, b, cross, d, e, f] =
+                p.coefficients().map(|k| V::from_i64(k >> V::DROPPED_BITS));
+            walk.value[c] = b.times(j).plus(e).times(j).plus(f);
+            walk.first_x[c] = a.plus(cross.times(j)).plus(d);
+            walk.first_y[c] = b.times(two_j_plus_one).plus(e);
+            walk.second_x[c] = a.plus(a);
+            walk.second_y[c] = b.plus(b);
+            walk.cross[c] = cross;
         }
         walk
     }
