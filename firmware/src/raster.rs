@@ -4,9 +4,10 @@
 //!
 //! Per row, one division per edge finds the run of pixels no edge rules out
 //! (an edge rules a pixel out when its value at the center is below minus the
-//! farthest sample offset) and, within it, the interior run where every edge
-//! clears the center by that margin: interior pixels take the full mask with
-//! no per-sample work. Only the pixels between the two look at samples,
+//! farthest sample offset) and, within a run longer than 8 pixels, the
+//! interior run where every edge clears the center by that margin: interior
+//! pixels take the full mask with no per-sample work. Only the other pixels
+//! look at samples, and only for the edges they do not clear,
 //! through [`CoverageMask::edge_coverage`] (sorted sample thresholds for 4x4,
 //! the edge function stepped across the grid with additions otherwise; SPEC
 //! section 2). Edge values and Gouraud colors are stepped in 32 bits when the
@@ -15,7 +16,8 @@
 //! Fragments are first offered to the buffer without a color; a triangle's
 //! colors are set up when its first fragment survives, and a triangle facing
 //! away that the buffer already hides in the whole band is skipped before any
-//! fragment ([`hidden_in_band`]).
+//! fragment ([`hidden_in_band`]); where the test finds a pixel the buffer
+//! does not hide, the search for the first surviving fragment starts there.
 
 use crate::band_buffer::{BandBuffer, FullRun};
 use crate::coverage::CoverageMask;
