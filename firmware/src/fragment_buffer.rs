@@ -262,6 +262,16 @@ impl StripSummary {
         }
     }
 
+    /// Whether strip `s` of a band `width` pixels wide and `rows` rows tall
+    /// hides a fragment whose nearest sample depth is at least `depth`: all
+    /// its pixels covered, by fragments all nearer than `depth`. `s` is a
+    /// strip of the band (the summary is kept only for bands it covers).
+    #[inline(always)]
+    fn hides(&self, s: usize, width: usize, rows: usize, depth: i64) -> bool {
+        let columns = STRIP_WIDTH.min(width - s * STRIP_WIDTH);
+        self.full_pixels[s] as usize == columns * rows && (self.farthest[s] as i64) < depth
+    }
+
     /// Notes that a pixel at column `x` covered `before` and now covers
     /// `before | added`.
     #[inline]
@@ -781,14 +791,15 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
 
     #[inline]
     fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
-        if self.strips.kept {
-            let s = x as usize / STRIP_WIDTH;
-            if s < MAX_STRIPS
-                && self.strips.full_pixels[s] as usize == STRIP_WIDTH * self.rows as usize
-                && (self.strips.farthest[s] as i64) < depth
-            {
-                return true;
-            }
+        let (width, rows) = (self.config.width as usize, self.rows as usize);
+        // A column of the image lies in a strip the kept summary covers.
+        if self.strips.kept
+            && (x as usize) < width
+            && self
+                .strips
+                .hides(x as usize / STRIP_WIDTH, width, rows, depth)
+        {
+            return true;
         }
         let p = self.pixel_index(x, row);
         let n = self.counts[p] as usize;
@@ -812,11 +823,7 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         let width = self.config.width as usize;
         let rows = self.rows as usize;
         let last = (x1 as usize).min(width - 1) / STRIP_WIDTH;
-        (x0 as usize / STRIP_WIDTH..=last).all(|s| {
-            let columns = STRIP_WIDTH.min(width - s * STRIP_WIDTH);
-            self.strips.full_pixels[s] as usize == columns * rows
-                && (self.strips.farthest[s] as i64) < depth
-        })
+        (x0 as usize / STRIP_WIDTH..=last).all(|s| self.strips.hides(s, width, rows, depth))
     }
 
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
