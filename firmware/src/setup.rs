@@ -18,8 +18,8 @@ use crate::fixed_point::{saturate, Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::GRADIENT_LIMIT;
 use crate::lighting::ColorQ8;
 use crate::shading::{
-    fit_quadratic, light_midpoints, normal_planes, samples_are_planar, walks_in_i32, PhongPlanes,
-    QuadraticPolynomial, QuadraticSamples, TriangleLighting,
+    fit_quadratic_over, light_midpoints, normal_planes, samples_are_planar, walks_in_i32,
+    PhongPlanes, QuadraticPolynomial, QuadraticSamples, TriangleLighting,
 };
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -567,7 +567,7 @@ impl TriangleSetup {
                 let fitted = if samples_are_planar(&samples) {
                     None
                 } else {
-                    fit_quadratic(&xs, &ys, (x0, y0), size, &samples)
+                    fit_quadratic_over(&xs, &ys, (x0, y0), size, &samples, Some(area2))
                 };
                 match fitted {
                     Some(channels) if walks_in_i32(&channels, size) => {

@@ -233,7 +233,23 @@ pub fn fit_quadratic(
     size: (i64, i64),
     samples: &QuadraticSamples,
 ) -> Option<[QuadraticPolynomial; 3]> {
-    let basis = FitBasis::new(xs, ys, origin, size)?;
+    fit_quadratic_over(xs, ys, origin, size, samples, None)
+}
+
+/// [`fit_quadratic`], with the reciprocal of twice the triangle's area when
+/// the caller has it already: `Reciprocal::new` of twice the area of the
+/// corners before they were clamped to the guard band (setup's), used
+/// where no corner lies on the guard band's edge (where none was clamped).
+#[inline(always)]
+pub(crate) fn fit_quadratic_over(
+    xs: &[i64; 3],
+    ys: &[i64; 3],
+    origin: (i64, i64),
+    size: (i64, i64),
+    samples: &QuadraticSamples,
+    area2: Option<Reciprocal>,
+) -> Option<[QuadraticPolynomial; 3]> {
+    let basis = FitBasis::new(xs, ys, origin, size, area2)?;
     Some(if basis.monomials_fit_i32() {
         fit_channels::<i32>(&basis, samples)
     } else {
@@ -259,10 +275,17 @@ impl FitBasis {
     /// `origin` of `size` pixels, as [`fit_quadratic`] takes them; `None`
     /// where it returns `None`.
     #[inline(always)]
-    fn new(xs: &[i64; 3], ys: &[i64; 3], origin: (i64, i64), size: (i64, i64)) -> Option<Self> {
+    fn new(
+        xs: &[i64; 3],
+        ys: &[i64; 3],
+        origin: (i64, i64),
+        size: (i64, i64),
+        reciprocal: Option<Reciprocal>,
+    ) -> Option<Self> {
         let guard = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
         let box_limit = 4096;
-        if xs.iter().chain(ys).any(|c| c.abs() > guard)
+        let farthest = xs.iter().chain(ys).fold(0, |m, c| m.max(c.abs()));
+        if farthest > guard
             || !(0..=box_limit).contains(&origin.0)
             || !(0..=box_limit).contains(&origin.1)
             || size.0 > box_limit
@@ -286,7 +309,13 @@ impl FitBasis {
         // s * area2 = (x - x0) dy2 - (y - y0) dx2 with x = 16 (x0 + u 2^p) + 8 ...;
         // [value at the origin, change over u in [0, 1], change over v in [0, 1]].
         // One reciprocal of the area for the six plane coefficients.
-        let reciprocal = Reciprocal::new(area2 as u64);
+        // The caller's reciprocal is of the area of the corners before
+        // setup clamped them to the guard band: this area whenever no
+        // corner lies on the guard band's edge.
+        let reciprocal = match reciprocal {
+            Some(r) if farthest < guard => r,
+            _ => Reciprocal::new(area2 as u64),
+        };
         let scale = SUBPIXEL_BITS + BARYCENTRIC_BITS;
         let at = |n: i64, extra: u32| reciprocal.mul_div_round(sign * n, extra);
         let (s0, su, sv) = (
@@ -976,6 +1005,7 @@ pub struct QuadraticRow<V = i64> {
 /// largest value of `k`'s monomial on the box). The walk's arithmetic wraps:
 /// it is exact modulo 2^32, so each value it reaches at a pixel is the
 /// polynomial's, whatever its differences and products do on the way.
+#[inline(always)]
 pub fn walks_in_i32(p: &[QuadraticPolynomial; 3], size: (i64, i64)) -> bool {
     if !is_narrow_box(size) || size.0 < 1 || size.1 < 1 {
         return false;
@@ -1253,6 +1283,40 @@ mod tests {
     }
 
     #[test]
+    fn a_reciprocal_handed_over_gives_the_same_fit() {
+        // Setup hands over the reciprocal of its own area: the same bits
+        // as the fit's own where no corner lies on the guard band's edge;
+        // there a wrong one is not used.
+        let mut rng = Rng(0x7ec1_9e0c_a1ea_2024);
+        let guard = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
+        let (mut handed, mut refused) = (0, 0);
+        for n in 0..5_000 {
+            let (w, h) = if n % 2 == 0 { (128, 128) } else { (2048, 2048) };
+            let (mut xs, ys) = random_triangle(&mut rng, w, h);
+            let on_edge = n % 5 == 0;
+            if on_edge {
+                xs[0] = -guard;
+            }
+            let Some((origin, size)) = bounding_box(&xs, &ys, w, h) else {
+                continue;
+            };
+            let samples = random_samples(&mut rng);
+            let area2 =
+                ((xs[1] - xs[0]) * (ys[2] - ys[0]) - (xs[2] - xs[0]) * (ys[1] - ys[0])).abs();
+            // On the edge, a reciprocal of another area.
+            let given = if on_edge { area2 + 1 } else { area2 };
+            let reciprocal = Reciprocal::new(given.max(1) as u64);
+            let own = fit_quadratic(&xs, &ys, origin, size, &samples);
+            let over = fit_quadratic_over(&xs, &ys, origin, size, &samples, Some(reciprocal));
+            assert_eq!(own, over, "{xs:?} {ys:?}");
+            handed += (own.is_some() && !on_edge) as u32;
+            refused += (own.is_some() && on_edge) as u32;
+        }
+        assert!(handed > 2_000, "{handed}");
+        assert!(refused > 100, "{refused}");
+    }
+
+    #[test]
     fn i32_monomials_give_the_i64_fit() {
         // Any triangle whose planes pass `monomials_fit_i32`, slivers up to
         // the bound included, fits to the same bits with 32-bit monomials.
@@ -1271,7 +1335,7 @@ mod tests {
             let Some((origin, size)) = bounding_box(&xs, &ys, w, h) else {
                 continue;
             };
-            let Some(basis) = FitBasis::new(&xs, &ys, origin, size) else {
+            let Some(basis) = FitBasis::new(&xs, &ys, origin, size, None) else {
                 continue;
             };
             if !basis.monomials_fit_i32() {
