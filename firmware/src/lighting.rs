@@ -122,6 +122,7 @@ impl LightSetup {
     }
 
     /// The lit color of a surface with eye-space unit normal `n` (Q2.14) and color `base`.
+    #[inline(always)]
     pub fn shade(&self, n: &[i32; 3], base: Rgb888) -> ColorQ8 {
         // Unit vectors rounded to Q2.14 may give a dot product a step above 1.
         let ndl = dot(n, &self.to_light).clamp(0, UNIT_ONE);
