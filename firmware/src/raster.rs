@@ -136,10 +136,15 @@ fn pixel_coverage<M: CoverageMask, E: EdgeValue>(
 /// (and one step beyond) stays within `±2^30`, so the pixel loop can run in `i32`.
 /// A triangle under 1,024 pixels across (nearly every one) needs no more
 /// than its corners to say so.
+#[inline(always)]
 fn edges_fit_i32(setup: &TriangleSetup, y_first: u16, y_last: u16) -> bool {
-    if setup.corners_within_1024_px() {
-        return true;
-    }
+    setup.corners_within_1024_px() || edges_fit_i32_bound(setup, y_first, y_last)
+}
+
+/// [`edges_fit_i32`] for a triangle 1,024 pixels across or more: the bound
+/// over the box, out of line.
+#[inline(never)]
+fn edges_fit_i32_bound(setup: &TriangleSetup, y_first: u16, y_last: u16) -> bool {
     let columns = (setup.x1 - setup.x0) as i64 + 1;
     let rows = (y_last - setup.y0) as i64 + 1;
     let _ = y_first;
