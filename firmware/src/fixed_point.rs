@@ -221,6 +221,8 @@ impl Reciprocal {
     /// `n 2^extra / d`, rounded down (within one unit and the relative error
     /// above), for `|n| < 2^62`; the result (times two, for
     /// [`Reciprocal::mul_div_round`]) must fit `i64`.
+    // Always inlined: the compiler moved it out of color setup once the fit
+    // took setup's reciprocal (see `shading::walks_in_i32`).
     #[inline(always)]
     pub fn mul_div(self, n: i64, extra: u32) -> i64 {
         if let Some(shift) = self.short_shift(n.unsigned_abs(), extra) {

@@ -136,6 +136,9 @@ fn pixel_coverage<M: CoverageMask, E: EdgeValue>(
 /// (and one step beyond) stays within `±2^30`, so the pixel loop can run in `i32`.
 /// A triangle under 1,024 pixels across (nearly every one) needs no more
 /// than its corners to say so.
+// The corners' test inline, the bound out of line: 0.18 M fewer
+// instructions on the teapot's frame than the compiler's choice (the whole
+// test out of line), 0.19 M fewer than all of it inline.
 #[inline(always)]
 fn edges_fit_i32(setup: &TriangleSetup, y_first: u16, y_last: u16) -> bool {
     setup.corners_within_1024_px() || edges_fit_i32_bound(setup, y_first, y_last)
