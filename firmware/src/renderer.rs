@@ -730,6 +730,11 @@ fn bin_triangles(
     binned
 }
 
+/// What color setup needs of triangle `t` (corners `corners`): its vertex
+/// colors, eye-space normals and light, as its object's shading asks.
+// Always inlined into the request for colors: 0.11 M fewer instructions on
+// the teapot's antialiased frame than the compiler's choice (out of line).
+#[inline(always)]
 fn color_source<'f>(
     ctx: &'f FrameContext<'_, '_>,
     objects: &[ObjectFrame],
