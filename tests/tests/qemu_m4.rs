@@ -13,8 +13,8 @@ use std::time::Duration;
 use xtask::firmware::{build_m4, run_m4, FirmwareConfig, FirmwareRun};
 
 /// Upper bounds on instructions per frame (teapot, default M4 configuration),
-/// set from the largest frame these tests draw, 30.61 M (`shared`, 3-frame
-/// turntable), 14.08 M (`zbuffer`, 3 frames) and 30.37 M (`split-bands`, 2
+/// set from the largest frame these tests draw, 30.55 M (`shared`, 3-frame
+/// turntable), 14.09 M (`zbuffer`, 3 frames) and 30.31 M (`split-bands`, 2
 /// frames), plus about 3 % (`docs/m4-benchmark.md`): a change that makes
 /// frames slower fails here. Counts are deterministic (`-icount shift=0`), so
 /// the margin is for intended changes and code placement only.
