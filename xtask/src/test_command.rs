@@ -239,11 +239,10 @@ pub fn run() -> Result<(), String> {
     )?;
 
     steps.step("library for Cortex-M4F and Cortex-M0+");
+    // One cargo for both targets: it builds them side by side (the release
+    // profile's single codegen unit keeps each on one core).
     status(&mut cargo_args(
-        "build -p mcu-abuffer --release --target thumbv7em-none-eabihf",
-    ))?;
-    status(&mut cargo_args(
-        "build -p mcu-abuffer --release --target thumbv6m-none-eabi",
+        "build -p mcu-abuffer --release --target thumbv7em-none-eabihf --target thumbv6m-none-eabi",
     ))?;
 
     steps.step("tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump, board link and display path)");
