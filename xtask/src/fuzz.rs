@@ -79,8 +79,8 @@ pub fn targets() -> Result<Vec<String>, String> {
     Ok(names)
 }
 
-/// Installs the nightly toolchain the fuzz targets build with, when missing.
-pub fn install_nightly() -> Result<(), String> {
+/// Runs `cargo xtask fuzz`.
+pub fn run(args: &FuzzArgs) -> Result<(), String> {
     let nightly = Command::new("rustup")
         .args(["run", "nightly", "rustc", "--version"])
         .output()
@@ -94,12 +94,6 @@ pub fn install_nightly() -> Result<(), String> {
             "minimal",
         ]))?;
     }
-    Ok(())
-}
-
-/// Runs `cargo xtask fuzz`.
-pub fn run(args: &FuzzArgs) -> Result<(), String> {
-    install_nightly()?;
     let version = output(Command::new("rustup").args(["run", "nightly", "rustc", "-vV"]))?;
     let host = version
         .lines()

@@ -12,16 +12,9 @@
 //! description, every fuzz target for a short time, and the main job (a
 //! built-in scene rendered to an image). Each step's heading shows the minutes
 //! and seconds since the start.
-//!
-//! Two steps run beside the others, since each has its own toolchain and
-//! target folder and spends much of its time on one core: the check with the
-//! minimum Rust version and the fuzz targets (their build and their runs).
-//! Their output is kept and printed in their place in the order above, and a
-//! failure of either fails the command there.
 
-use crate::run::{cargo, describe, installed, output, repo_root, status};
+use crate::run::{cargo, installed, output, repo_root, status};
 use std::process::Command;
-use std::thread::JoinHandle;
 use std::time::Instant;
 
 /// The flip-link version the firmwares link with.
@@ -31,66 +24,9 @@ const FLIP_LINK_VERSION: &str = "0.1.12";
 struct Steps(Instant);
 
 impl Steps {
-    /// Minutes and seconds since the start.
-    fn clock(&self) -> String {
-        let s = self.0.elapsed().as_secs();
-        format!("{}:{:02}", s / 60, s % 60)
-    }
-
     fn step(&self, what: &str) {
-        println!("== [{}] {what}", self.clock());
-    }
-}
-
-/// A step that runs beside the others: one command in a thread, its output
-/// kept until the step is reported in its place.
-struct StepBeside {
-    /// When it started (minutes and seconds since the start).
-    started: String,
-    /// The command's output, or its output and what failed.
-    result: JoinHandle<Result<String, String>>,
-}
-
-impl StepBeside {
-    /// Starts `command`.
-    fn start(steps: &Steps, mut command: Command) -> Self {
-        let result = std::thread::spawn(move || {
-            let line = describe(&command);
-            let out = command
-                .output()
-                .map_err(|e| format!("`{line}` did not start: {e}"))?;
-            let log = format!(
-                "$ {line}\n{}{}",
-                String::from_utf8_lossy(&out.stdout),
-                String::from_utf8_lossy(&out.stderr)
-            );
-            if out.status.success() {
-                Ok(log)
-            } else {
-                Err(format!("{log}`{line}` failed ({})", out.status))
-            }
-        });
-        StepBeside {
-            started: steps.clock(),
-            result,
-        }
-    }
-
-    /// Waits for the step, heads it `what` and prints its output; its failure
-    /// is the command's.
-    fn finish(self, steps: &Steps, what: &str) -> Result<(), String> {
-        steps.step(&format!(
-            "{what} (started at {}, beside the steps above)",
-            self.started
-        ));
-        match self.result.join() {
-            Ok(Ok(log)) => {
-                print!("{log}");
-                Ok(())
-            }
-            Ok(Err(failure)) => Err(failure),
-            Err(_) => Err(format!("the step \"{what}\" panicked")),
-        }
+        let s = self.0.elapsed().as_secs();
+        println!("== [{}:{:02}] {what}", s / 60, s % 60);
     }
 }
 
@@ -180,24 +116,6 @@ pub fn run() -> Result<(), String> {
     steps.step("setup");
     setup()?;
 
-    // The steps that run beside the others; their toolchains are installed
-    // first, one after the other (rustup is not safe for concurrent installs).
-    let msrv = minimum_rust_version()?;
-    output(Command::new("rustup").args(["toolchain", "install", &msrv, "--profile", "minimal"]))?;
-    crate::fuzz::install_nightly()?;
-    let mut msrv_check = cargo();
-    msrv_check
-        .env("CARGO_TARGET_DIR", "target/msrv")
-        .arg(format!("+{msrv}"))
-        .args(["check", "--workspace", "--all-targets"]);
-    let msrv_step = StepBeside::start(&steps, msrv_check);
-    // A fixed seed: the same inputs on every machine, in the same order.
-    // Exploring new inputs is `cargo xtask fuzz --seconds N`.
-    let xtask = std::env::current_exe().map_err(|e| format!("the xtask program's path: {e}"))?;
-    let mut fuzz = crate::run::program(xtask);
-    fuzz.args(["fuzz", "--seconds", "10", "--seed", "1"]);
-    let fuzz_step = StepBeside::start(&steps, fuzz);
-
     steps.step("format");
     status(&mut cargo_args("fmt --all -- --check"))?;
     status(&mut cargo_args(
@@ -233,9 +151,14 @@ pub fn run() -> Result<(), String> {
         "publish --dry-run --allow-dirty -p mcu-abuffer -p abuffer-scenes",
     ))?;
 
-    msrv_step.finish(
-        &steps,
-        "the declared minimum Rust version (workspace rust-version) builds everything",
+    steps.step("the declared minimum Rust version (workspace rust-version) builds everything");
+    let msrv = minimum_rust_version()?;
+    output(Command::new("rustup").args(["toolchain", "install", &msrv, "--profile", "minimal"]))?;
+    status(
+        cargo()
+            .env("CARGO_TARGET_DIR", "target/msrv")
+            .arg(format!("+{msrv}"))
+            .args(["check", "--workspace", "--all-targets"]),
     )?;
 
     steps.step("library for Cortex-M4F and Cortex-M0+");
@@ -255,10 +178,14 @@ pub fn run() -> Result<(), String> {
         println!("{line}");
     }
 
-    fuzz_step.finish(
-        &steps,
-        "fuzz: 10 s per target from the seed corpus with a fixed seed",
-    )?;
+    steps.step("fuzz: 10 s per target from the seed corpus with a fixed seed (installs nightly)");
+    // A fixed seed: the same inputs on every machine, in the same order.
+    // Exploring new inputs is `cargo xtask fuzz --seconds N`.
+    crate::fuzz::run(&crate::fuzz::FuzzArgs {
+        seconds: 10,
+        seed: Some(1),
+        targets: Vec::new(),
+    })?;
 
     steps.step("main job: render a built-in scene");
     // The README's first command, built with the test profile that the tests
