@@ -1,24 +1,39 @@
 //! Desktop simulator for the `mcu_abuffer` renderer: scene loading, built-in
 //! scenes, image output and the measurement tools.
+//!
+//! The `cli` feature (on by default) adds the `host-sim` program and the
+//! modules behind its commands: image and GIF output, comparisons, sweeps,
+//! fitting and tuning. Without it the library is scene conversion and the
+//! renderings (`convert`, `render`, `ssaa`, `memory`, `heat`, `plot`).
 #![warn(missing_docs)]
 
 pub use abuffer_scenes::{builtins, obj, scene_desc, scene_file};
 
+#[cfg(feature = "cli")]
 pub mod animate;
+#[cfg(feature = "cli")]
 pub mod bounded;
+#[cfg(feature = "cli")]
 pub mod compare;
+#[cfg(feature = "cli")]
 pub mod complexity;
 pub mod convert;
+#[cfg(feature = "cli")]
 pub mod fit;
 pub mod heat;
+#[cfg(feature = "cli")]
 pub mod image_io;
 pub mod memory;
 pub mod plot;
 pub mod render;
+#[cfg(feature = "cli")]
 pub mod shading_compare;
 pub mod ssaa;
+#[cfg(feature = "cli")]
 pub mod sweep;
+#[cfg(feature = "cli")]
 pub mod tune;
+#[cfg(feature = "cli")]
 pub mod zbuffer_table;
 
 use scene_desc::SceneDesc;

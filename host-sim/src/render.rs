@@ -21,7 +21,8 @@ use mcu_abuffer::zbuffer_midpoint::{MidpointConfig, MidpointZBuffer, MAX_SUBDIVI
 use std::time::{Duration, Instant};
 
 /// How pixels are stored and resolved.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
     /// The reference A-buffer: every pixel can hold one fragment per sample.
@@ -53,18 +54,19 @@ pub enum Method {
 }
 
 /// The sample grid of coverage masks.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Grid {
     /// 4 x 4 samples (16-bit masks).
-    #[value(name = "4x4")]
+    #[cfg_attr(feature = "cli", value(name = "4x4"))]
     #[serde(rename = "4x4")]
     G4x4,
     /// 8 columns x 4 rows (32-bit masks).
-    #[value(name = "8x4")]
+    #[cfg_attr(feature = "cli", value(name = "8x4"))]
     #[serde(rename = "8x4")]
     G8x4,
     /// 8 x 8 samples (64-bit masks).
-    #[value(name = "8x8")]
+    #[cfg_attr(feature = "cli", value(name = "8x8"))]
     #[serde(rename = "8x8")]
     G8x8,
 }
