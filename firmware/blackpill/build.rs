@@ -111,7 +111,8 @@ fn main() {
         desc.width = width as u32;
         desc.height = height as u32;
         check_convertible(&desc).unwrap_or_else(|e| fail(&format!("BOARD_SCENES {name}: {e}")));
-        let baked = bake_scene(&desc, name);
+        let baked =
+            bake_scene(&desc, name).unwrap_or_else(|e| fail(&format!("BOARD_SCENES {name}: {e}")));
         max_vertices = max_vertices.max(baked.vertices);
         max_triangles = max_triangles.max(baked.triangles);
         max_objects = max_objects.max(baked.objects);

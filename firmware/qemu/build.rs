@@ -189,7 +189,8 @@ fn main() {
     let stack_reserve = env_num("FIRMWARE_STACK_RESERVE", defaults::STACK_RESERVE_BYTES);
 
     // The scene as Rust statics, and what they will take.
-    let baked = bake_scene(&desc, &format!("FIRMWARE_SCENE={spec}"));
+    let baked = bake_scene(&desc, &format!("FIRMWARE_SCENE={spec}"))
+        .unwrap_or_else(|e| fail(&format!("FIRMWARE_SCENE {spec}: {e}")));
     let (vertices, triangles) = (baked.vertices, baked.triangles);
     let (w, h) = (desc.width as usize, desc.height as usize);
     // The library's own byte counts of the statics in src/common.rs.

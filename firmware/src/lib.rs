@@ -123,6 +123,8 @@ pub mod lighting;
 #[doc(hidden)]
 pub mod merge;
 #[doc(hidden)]
+pub mod openings;
+#[doc(hidden)]
 pub mod pool;
 #[doc(hidden)]
 pub mod raster;

@@ -11,8 +11,9 @@ use crate::clip::{clip_triangle, ClipVertex};
 use crate::color_carry::{CarriedColors, ColorCarry};
 use crate::coverage::CoverageMask;
 use crate::fixed_point::{Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
-use crate::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis};
+use crate::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis, OUT_NEAR};
 use crate::lighting::{color_q8, normalize_unit, LightSetup};
+use crate::openings::OpeningBoxes;
 use crate::scene::{Scene, SceneError, Shading};
 use crate::setup::TriangleSetup;
 use crate::setup::{is_backfacing, signed_area2, ColorSource, SetupVertex};
@@ -106,6 +107,9 @@ pub struct ObjectFrame {
     pub vertex_base: u32,
     /// Index of the object's first triangle over all objects.
     pub triangle_base: u32,
+    /// Where the object's openings lie on screen: which faces turned away
+    /// can show.
+    pub(crate) openings: OpeningBoxes,
 }
 
 impl ObjectFrame {
@@ -121,6 +125,7 @@ impl ObjectFrame {
         },
         vertex_base: 0,
         triangle_base: 0,
+        openings: OpeningBoxes::DRAW_ALL,
     };
 }
 
@@ -548,15 +553,18 @@ fn transform_vertices(
             transform,
             vertex_base: base,
             triangle_base,
+            openings: OpeningBoxes::DRAW_ALL,
         };
         triangle_base += object.mesh.triangles.len() as u32;
         let shading = ctx.shading(oi);
         let base_color = object.color;
         let flat = [base_color.r(), base_color.g(), base_color.b()];
         let mesh = &object.mesh;
+        let mut codes = 0u8;
         for (i, p) in mesh.positions.iter().enumerate() {
             let c = transform.to_clip(p);
             let (code, (x, y, z)) = outcode_and_project(&c);
+            codes |= code;
             let color = match (shading, &ctx.light) {
                 (Shading::Gouraud | Shading::Quadratic, Some(light)) => {
                     let n = mesh.normals[i].map(|v| v.to_bits() as i32);
@@ -566,6 +574,11 @@ fn transform_vertices(
                 _ => flat,
             };
             ws.vertices[base as usize + i] = ScreenVertex::new(x, y, z, color, code);
+        }
+        let vertices = base as usize..base as usize + mesh.positions.len();
+        if let (Some(openings), false) = (mesh.openings, object.cull_backfaces) {
+            ws.objects[oi].openings =
+                OpeningBoxes::of(openings, &ws.vertices[vertices], codes & OUT_NEAR == 0);
         }
         base += mesh.positions.len() as u32;
     }
@@ -665,7 +678,12 @@ fn triangle_rows(
             stats.triangles_outside += 1;
             return None;
         }
-        (min_y, max_y, is_backfacing(area2))
+        let back = is_backfacing(area2);
+        if back && ws.objects[o].openings.hide_face(min_x, max_x, min_y, max_y) {
+            stats.triangles_backfacing += 1;
+            return None;
+        }
+        (min_y, max_y, back)
     };
     if max_y < 0 || min_y >= height {
         stats.triangles_outside += 1;

@@ -21,7 +21,20 @@ pub struct Mesh<'a> {
     pub normals: &'a [Normal],
     /// Triangles as indices into `positions`.
     pub triangles: &'a [[u32; 3]],
+    /// What is known of the mesh's shape. `Some`: the mesh bounds solids,
+    /// its faces turned outwards, and these are its openings (the loops of
+    /// edges that only one triangle uses, as vertex indices, each loop ended
+    /// by [`OPENING_END`]; empty when the mesh is closed). A two-sided object
+    /// then skips the faces it turns away that no opening can show (see
+    /// [`crate::openings`]). `None`: nothing is known; every face is drawn.
+    ///
+    /// `abuffer-scenes` finds the openings and checks the shape
+    /// (`mesh_openings`); a wrong `Some` changes the image, never memory safety.
+    pub openings: Option<&'a [u32]>,
 }
+
+/// Ends each loop of [`Mesh::openings`].
+pub const OPENING_END: u32 = u32::MAX;
 
 /// Position, orientation and size of an object.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -164,6 +177,8 @@ pub const OCTAHEDRON: Mesh<'static> = {
             [3, 1, 5],
             [0, 3, 5],
         ],
+        // Closed, faces turned outwards.
+        openings: Some(&[]),
     }
 };
 

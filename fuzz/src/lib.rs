@@ -168,6 +168,25 @@ fn shading(u: &mut Unstructured<'_>) -> Result<Shading> {
     })
 }
 
+/// A mesh's openings as a scene may claim them, true or not: vertex indices
+/// (now and then past the last vertex) and ends of loops. A wrong claim may
+/// change the image, never the memory the renderer touches.
+fn openings(u: &mut Unstructured<'_>, n_vertices: usize) -> Result<Option<Vec<u32>>> {
+    if !u.arbitrary::<bool>()? {
+        return Ok(None);
+    }
+    let n = u.int_in_range(0..=24)?;
+    let mut list = Vec::with_capacity(n);
+    for _ in 0..n {
+        list.push(match u.int_in_range(0..=7u8)? {
+            0 => mcu_abuffer::scene::OPENING_END,
+            1 => u.arbitrary()?,
+            _ => u.int_in_range(0..=n_vertices as u32)?,
+        });
+    }
+    Ok(Some(list))
+}
+
 fn color(u: &mut Unstructured<'_>) -> Result<Rgb888> {
     Ok(Rgb888::new(u.arbitrary()?, u.arbitrary()?, u.arbitrary()?))
 }
@@ -244,6 +263,7 @@ pub fn device_scene(u: &mut Unstructured<'_>) -> Result<OwnedScene> {
                 scale: coord_or(u, 1..=1024)?,
             },
             cull: u.arbitrary()?,
+            openings: openings(u, n_vertices)?,
             shading: shading(u)?,
         });
     }
@@ -343,6 +363,7 @@ pub fn host_scene(
             rotation_deg: extreme_f32_3(u)?,
             scale: extreme_f32(u)?,
             cull_backfaces: u.arbitrary()?,
+            bounds_solids: false,
             shading: shading_desc(u)?,
         });
     }

@@ -8,10 +8,11 @@ use crate::scene_desc::{SceneDesc, ShadingDesc};
 use abuffer_test_support::{OwnedObject, OwnedScene};
 use embedded_graphics_core::pixelcolor::Rgb888;
 use fixed::types::{I16F16, I2F14};
-use mcu_abuffer::scene::{Camera, Light, Shading, Transform};
+use mcu_abuffer::scene::{Camera, Light, Shading, Transform, OPENING_END};
 
 pub use abuffer_scenes::fixed_bits::MAX_MODEL_COORDINATE;
 use abuffer_scenes::fixed_bits::{check_convertible, coord_bits, normal_bits};
+use abuffer_scenes::openings::object_openings;
 
 /// A scene in fixed point that owns its meshes (the shared owned scene;
 /// [`to_fixed`] leaves its turntable angle at zero: the renderer takes the
@@ -30,8 +31,14 @@ fn fix3(v: [f32; 3]) -> [I16F16; 3] {
 pub fn to_fixed(desc: &SceneDesc) -> Result<FixedScene, String> {
     check_convertible(desc)?;
     let mut objects = Vec::new();
-    for o in &desc.objects {
+    for (index, o) in desc.objects.iter().enumerate() {
         let m = &o.mesh;
+        let openings = object_openings(o, index)?.map(|loops| {
+            loops
+                .iter()
+                .flat_map(|l| l.iter().copied().chain([OPENING_END]))
+                .collect()
+        });
         let shading = match (o.shading, desc.light.is_some()) {
             (Some(ShadingDesc::Unlit), _) | (None, false) => Shading::Unlit,
             (Some(ShadingDesc::Flat), _) => Shading::Flat,
@@ -54,6 +61,7 @@ pub fn to_fixed(desc: &SceneDesc) -> Result<FixedScene, String> {
                 scale: fix(o.scale),
             },
             cull: o.cull_backfaces,
+            openings,
             shading,
         });
     }

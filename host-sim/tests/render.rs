@@ -25,6 +25,7 @@ fn object(mesh: MeshData, position: [f32; 3], scale: f32) -> ObjectDesc {
         rotation_deg: [0.0; 3],
         scale,
         cull_backfaces: false,
+        bounds_solids: false,
         shading: None,
     }
 }

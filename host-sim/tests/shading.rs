@@ -51,6 +51,7 @@ fn object(mesh: MeshData, shading: ShadingDesc) -> ObjectDesc {
         rotation_deg: [0.0; 3],
         scale: 1.0,
         cull_backfaces: false,
+        bounds_solids: false,
         shading: Some(shading),
     }
 }

@@ -61,6 +61,7 @@ fn shading_and_clipping_scene() -> FixedScene {
             rotation_deg: [0.0; 3],
             scale: 0.55,
             cull_backfaces: i % 2 == 0,
+            bounds_solids: false,
             shading,
         })
         .collect();
@@ -73,6 +74,7 @@ fn shading_and_clipping_scene() -> FixedScene {
         rotation_deg: [20.0, 35.0, 0.0],
         scale: 0.9,
         cull_backfaces: false,
+        bounds_solids: false,
         shading: Some(ShadingDesc::Quadratic),
     });
     let desc = SceneDesc {

@@ -79,6 +79,7 @@ fn object(mesh: MeshData, position: [f32; 3], scale: f32, shading: ShadingDesc) 
         rotation_deg: [0.0; 3],
         scale,
         cull_backfaces: false,
+        bounds_solids: false,
         shading: Some(shading),
     }
 }

@@ -1,13 +1,14 @@
 //! A scene as Rust source, for firmware build scripts that put it into flash.
 //!
-//! The generated statics (`POSITIONS_i`, `NORMALS_i`, `TRIANGLES_i`, `OBJECTS`,
-//! `SCENE`) go through the same float-to-fixed conversion as host-sim, so a
+//! The generated statics (`POSITIONS_i`, `NORMALS_i`, `TRIANGLES_i`,
+//! `OPENINGS_i` where an object has openings, `OBJECTS`, `SCENE`) go through the same float-to-fixed conversion as host-sim, so a
 //! firmware renders the bits host-sim renders. The including module must have these
 //! names in scope: `Coord` (`mcu_abuffer::fixed_point::Coord`), `I2F14`
 //! (`fixed::types::I2F14`), `Rgb888`, and from `mcu_abuffer::scene` `Camera`,
 //! `Light`, `Mesh`, `Normal`, `Scene`, `SceneObject`, `Shading`, `Transform`.
 
 use crate::fixed_bits::{coord3_bits, coord_bits, normal_bits, resolve_shading};
+use crate::openings::object_openings;
 use crate::scene_desc::{SceneDesc, ShadingDesc};
 use std::fmt::Write as _;
 
@@ -15,6 +16,9 @@ use std::fmt::Write as _;
 pub const VERTEX_FLASH_BYTES: usize = 12 + 6;
 /// Bytes of flash one triangle takes (three 32-bit indices).
 pub const TRIANGLE_FLASH_BYTES: usize = 12;
+/// Bytes of flash one entry of a mesh's openings takes (a 32-bit index or
+/// the end of a loop).
+pub const OPENING_FLASH_BYTES: usize = 4;
 
 /// A scene turned into Rust statics, with its sizes.
 #[derive(Clone, Debug)]
@@ -44,11 +48,15 @@ fn coord(v: f32) -> String {
 }
 
 /// The statics of `desc`; `origin` is named in the generated file's first line.
-/// The caller checks the scene with `check_convertible` first.
-pub fn bake_scene(desc: &SceneDesc, origin: &str) -> BakedScene {
+/// The caller checks the scene with `check_convertible` first. An error names
+/// an object that says it bounds solids while its mesh does not
+/// ([`object_openings`]).
+pub fn bake_scene(desc: &SceneDesc, origin: &str) -> Result<BakedScene, String> {
     let mut s = String::new();
     // Writing to a String cannot fail.
     let _ = writeln!(s, "// Generated from {origin}.");
+    let mut opening_entries = 0;
+    let mut has_openings = Vec::new();
     for (i, o) in desc.objects.iter().enumerate() {
         let m = &o.mesh;
         let _ = writeln!(
@@ -81,6 +89,20 @@ pub fn bake_scene(desc: &SceneDesc, origin: &str) -> BakedScene {
             let _ = writeln!(s, "[{}, {}, {}],", t[0], t[1], t[2]);
         }
         let _ = writeln!(s, "];");
+        let openings = object_openings(o, i)?;
+        has_openings.push(openings.is_some());
+        if let Some(loops) = openings {
+            let entries: usize = loops.iter().map(|l| l.len() + 1).sum();
+            opening_entries += entries;
+            let _ = writeln!(s, "static OPENINGS_{i}: [u32; {entries}] = [");
+            for l in &loops {
+                for v in l {
+                    let _ = write!(s, "{v}, ");
+                }
+                let _ = writeln!(s, "mcu_abuffer::scene::OPENING_END,");
+            }
+            let _ = writeln!(s, "];");
+        }
     }
     let has_light = desc.light.is_some();
     let _ = writeln!(
@@ -89,6 +111,11 @@ pub fn bake_scene(desc: &SceneDesc, origin: &str) -> BakedScene {
         desc.objects.len()
     );
     for (i, o) in desc.objects.iter().enumerate() {
+        let openings = if has_openings[i] {
+            format!("Some(&OPENINGS_{i})")
+        } else {
+            "None".to_string()
+        };
         let shading = match resolve_shading(o.shading, has_light) {
             ShadingDesc::Unlit => "Unlit",
             ShadingDesc::Flat => "Flat",
@@ -98,7 +125,7 @@ pub fn bake_scene(desc: &SceneDesc, origin: &str) -> BakedScene {
         };
         let _ = writeln!(
             s,
-            "SceneObject {{ mesh: Mesh {{ positions: &POSITIONS_{i}, normals: &NORMALS_{i}, triangles: &TRIANGLES_{i} }}, \
+            "SceneObject {{ mesh: Mesh {{ positions: &POSITIONS_{i}, normals: &NORMALS_{i}, triangles: &TRIANGLES_{i}, openings: {openings} }}, \
              color: Rgb888::new({}, {}, {}), transform: Transform {{ position: {}, rotation_deg: {}, scale: {} }}, \
              cull_backfaces: {}, shading: Shading::{shading} }},",
             o.color[0],
@@ -141,11 +168,13 @@ pub fn bake_scene(desc: &SceneDesc, origin: &str) -> BakedScene {
     );
     let vertices = desc.objects.iter().map(|o| o.mesh.positions.len()).sum();
     let triangles = desc.objects.iter().map(|o| o.mesh.triangles.len()).sum();
-    BakedScene {
+    Ok(BakedScene {
         source: s,
         vertices,
         triangles,
         objects: desc.objects.len(),
-        mesh_bytes: vertices * VERTEX_FLASH_BYTES + triangles * TRIANGLE_FLASH_BYTES,
-    }
+        mesh_bytes: vertices * VERTEX_FLASH_BYTES
+            + triangles * TRIANGLE_FLASH_BYTES
+            + opening_entries * OPENING_FLASH_BYTES,
+    })
 }

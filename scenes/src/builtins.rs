@@ -18,6 +18,7 @@ pub mod synthetic;
 mod teapot;
 mod teapot_data;
 
+use crate::openings::mesh_openings;
 use crate::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc, ShadingDesc};
 use geom::{add, cross, dot, mul, normalize, sub, Mat3, V3};
 
@@ -159,12 +160,22 @@ pub fn builtin_scene(name: &str, width: u32, height: u32) -> Option<SceneDesc> {
                 [25.0, 35.0, -10.0],
             )
         }],
-        _ if bare == "teapot" || bare.starts_with("teapot:") => vec![object(
-            &format!("builtin:{bare}"),
-            builtin_mesh(bare).ok()?,
-            [220, 170, 120],
-            [0.0, 30.0, 0.0],
-        )],
+        _ if bare == "teapot" || bare.starts_with("teapot:") => {
+            let mesh = builtin_mesh(bare).ok()?;
+            vec![ObjectDesc {
+                // The teapot's patches bound the body, lid, handle and spout,
+                // turned outwards; its inside shows through the gap between
+                // lid and body and through the spout. (The coarsest
+                // tessellation folds two patches onto one edge.)
+                bounds_solids: mesh_openings(&mesh).is_ok(),
+                ..object(
+                    &format!("builtin:{bare}"),
+                    mesh,
+                    [220, 170, 120],
+                    [0.0, 30.0, 0.0],
+                )
+            }]
+        }
         _ if bare == "overdraw" || bare.starts_with("overdraw:") => {
             let params: Vec<&str> = bare.split(':').skip(1).collect();
             toward_eye = [0.1, 0.2, 1.0];
@@ -206,6 +217,7 @@ fn object(mesh_name: &str, mesh: MeshData, color: [u8; 3], rotation_deg: [f32; 3
         // The teapot is open (no lid seal, the spout is a hole), so its
         // inside can be seen; closed meshes override this.
         cull_backfaces: false,
+        bounds_solids: false,
         shading: None,
     }
 }

@@ -9,5 +9,6 @@ pub mod bake;
 pub mod builtins;
 pub mod fixed_bits;
 pub mod obj;
+pub mod openings;
 pub mod scene_desc;
 pub mod scene_file;

@@ -82,6 +82,11 @@ pub struct ObjectDesc {
     pub scale: f32,
     /// Skip triangles that face away from the camera.
     pub cull_backfaces: bool,
+    /// The mesh bounds solids, its faces turned outwards, closed but for
+    /// openings: a two-sided object then skips the faces it turns away that no
+    /// opening can show ([`crate::openings`]; checked when the scene is
+    /// converted).
+    pub bounds_solids: bool,
     /// Shading mode; `None` means the default (lit when the scene has a light).
     pub shading: Option<ShadingDesc>,
 }

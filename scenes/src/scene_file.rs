@@ -30,8 +30,20 @@
 //! rotation_deg = [0.0, 30.0, 0.0]  # optional; about X, then Y, then Z
 //! scale = 1.0                      # optional, default 1
 //! cull_backfaces = false           # optional, default false
+//! bounds_solids = false            # optional, default false; see below
 //! shading = "quadratic"            # optional: "unlit", "flat", "gouraud", "quadratic" or "phong"
 //! ```
+//!
+//! `bounds_solids = true` says that the mesh bounds solids with its faces
+//! turned outwards, closed but for openings (a teapot whose lid does not
+//! seal, a cup): a two-sided object (`cull_backfaces = false`) then skips the
+//! faces it turns away that no opening can show, which is most of them, and
+//! draws the same image faster. The mesh is checked when the scene is
+//! converted (every edge shared by two triangles running it in opposite
+//! directions, but the openings'; each part enclosing a positive volume), and
+//! a mesh that fails is an error that names the object. A mesh that passes
+//! the check but passes through itself can still break the promise; leave
+//! the key out for such meshes.
 //!
 //! Unknown keys are errors, and every value is checked; errors carry the
 //! scene file's name and, where it can be found, the line at fault.
@@ -135,6 +147,7 @@ struct RawObject {
     rotation_deg: Option<Spanned<[f64; 3]>>,
     scale: Option<Spanned<f64>>,
     cull_backfaces: Option<bool>,
+    bounds_solids: Option<bool>,
     shading: Option<RawShading>,
 }
 
@@ -486,6 +499,7 @@ fn object(
         rotation_deg,
         scale,
         cull_backfaces: raw.cull_backfaces.unwrap_or(false),
+        bounds_solids: raw.bounds_solids.unwrap_or(false),
         shading: raw.shading.map(ShadingDesc::from),
     })
 }

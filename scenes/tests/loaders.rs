@@ -325,6 +325,7 @@ fn scene_full_file_loads_every_value() {
     assert_eq!(second.mesh_name, "mixed_forms.obj");
     assert_eq!(second.mesh.triangles.len(), 5);
     assert_eq!(second.shading, Some(ShadingDesc::Unlit));
+    assert!(second.bounds_solids && !first.bounds_solids);
 
     let third = &scene.objects[2];
     assert_eq!(third.mesh, first.mesh);
@@ -349,6 +350,7 @@ fn scene_defaults_are_applied() {
     assert_eq!(object.rotation_deg, [0.0; 3]);
     assert_eq!(object.scale, 1.0);
     assert!(!object.cull_backfaces);
+    assert!(!object.bounds_solids);
     assert_eq!(object.shading, None);
 }
 

@@ -20,6 +20,8 @@ pub struct OwnedObject {
     pub transform: Transform,
     /// Back-face culling.
     pub cull: bool,
+    /// The mesh's openings ([`Mesh::openings`]).
+    pub openings: Option<Vec<u32>>,
     /// Shading.
     pub shading: Shading,
 }
@@ -94,6 +96,7 @@ fn object<'a>(o: &'a OwnedObject, triangles: &'a [[u32; 3]]) -> SceneObject<'a> 
             positions: &o.positions,
             normals: &o.normals,
             triangles,
+            openings: o.openings.as_deref(),
         },
         color: o.color,
         transform: o.transform,

@@ -365,6 +365,7 @@ fn assemble(rng: &mut Rng, p: &SceneParams, tris: Vec<[[f64; 3]; 3]>) -> OwnedSc
             color: rgb888(rng.color()),
             transform,
             cull: rng.chance(0.25),
+            openings: None,
             shading,
         });
     }

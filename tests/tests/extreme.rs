@@ -138,6 +138,7 @@ fn triangles(tris: &[[[f64; 3]; 3]], color: [u8; 3]) -> OwnedObject {
         color: rgb888(color),
         transform: Transform::default(),
         cull: false,
+        openings: None,
         shading: Shading::Unlit,
     }
 }

@@ -46,6 +46,7 @@ fn object(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> OwnedObject {
         color: Rgb888::new(58, 58, 58),
         transform: Transform::default(),
         cull: false,
+        openings: None,
         shading: Shading::Unlit,
     }
 }
@@ -266,6 +267,7 @@ fn desc() -> SceneDesc {
             rotation_deg: [0.0; 3],
             scale: 1.0,
             cull_backfaces: false,
+            bounds_solids: false,
             shading: None,
         }],
     }

@@ -564,6 +564,7 @@ fn buffer_and_frame_limits() {
         color: Rgb888::new(1, 2, 3),
         transform: Transform::default(),
         cull: false,
+        openings: None,
         shading: mcu_abuffer::scene::Shading::Unlit,
     };
     let mut scene = OwnedScene {

@@ -99,6 +99,7 @@ pub(super) fn overdraw_objects(params: &[&str]) -> Option<Vec<ObjectDesc>> {
                 scale,
                 // Closed shapes: faces turned away are hidden anyway.
                 cull_backfaces: true,
+                bounds_solids: false,
                 shading: None,
             }
         })

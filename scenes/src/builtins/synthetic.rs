@@ -100,6 +100,7 @@ pub(super) fn synthetic_scene(name: &str) -> Option<SyntheticScene> {
                 scale: 1.0,
                 // The grid is an open surface; the knot is closed.
                 cull_backfaces: base == "knot",
+                bounds_solids: false,
                 shading: None,
             }],
             toward_eye: if base == "grid" {
@@ -239,6 +240,7 @@ fn layers(n: u32, depth: f32, seed: u64) -> Vec<ObjectDesc> {
             rotation_deg: [0.0; 3],
             scale: 1.0,
             cull_backfaces: false,
+            bounds_solids: false,
             shading: None,
         })
         .collect()
