@@ -5,7 +5,7 @@ use host_sim::builtins::{builtin_mesh, builtin_scene};
 use host_sim::compare::nmse;
 use host_sim::convert::to_fixed;
 use host_sim::render::{render, Method, RenderConfig, RenderOutput};
-use host_sim::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc};
+use host_sim::scene_desc::{MeshData, SceneDesc};
 
 const METHODS: [Method; 4] = [
     Method::Unlimited,
@@ -32,45 +32,24 @@ fn both(desc: &SceneDesc, method: Method, angle: f32) -> (RenderOutput, RenderOu
     (run(desc, method, angle), run(&plain, method, angle))
 }
 
-/// The cube without its top face, seen from above and to the side: its
-/// inside shows through the opening.
+/// The cube without its top face, seen from `eye` (the built-in scenes'
+/// light and background): its inside shows through the opening.
 fn open_box(eye: [f32; 3]) -> SceneDesc {
     let mut mesh: MeshData = builtin_mesh("cube").unwrap();
     let positions = mesh.positions.clone();
     mesh.triangles
         .retain(|t| !t.iter().all(|&v| positions[v as usize][1] == 1.0));
     assert_eq!(mesh.triangles.len(), 10);
-    SceneDesc {
-        width: 96,
-        height: 80,
-        background: [1, 2, 3],
-        camera: CameraDesc {
-            eye,
-            target: [0.0; 3],
-            up: [0.0, 1.0, 0.0],
-            fov_y_deg: 40.0,
-            near: 0.5,
-            far: 20.0,
-        },
-        light: Some(LightDesc {
-            direction: [0.4, 0.7, 1.0],
-            ambient: 0.15,
-            diffuse: 0.75,
-            specular: 0.4,
-            shininess: 24.0,
-        }),
-        objects: vec![ObjectDesc {
-            mesh_name: "open box".into(),
-            mesh,
-            color: [200, 150, 90],
-            position: [0.0; 3],
-            rotation_deg: [0.0; 3],
-            scale: 1.0,
-            cull_backfaces: false,
-            bounds_solids: true,
-            shading: None,
-        }],
-    }
+    let mut desc = builtin_scene("teapot", 96, 80).unwrap();
+    desc.camera.eye = eye;
+    desc.camera.target = [0.0; 3];
+    let object = &mut desc.objects[0];
+    object.mesh_name = "open box".into();
+    object.mesh = mesh;
+    object.rotation_deg = [0.0; 3];
+    object.cull_backfaces = false;
+    object.bounds_solids = true;
+    desc
 }
 
 #[test]
@@ -105,7 +84,7 @@ fn a_camera_inside_draws_every_face() {
         let (with, without) = both(&desc, method, 0.0);
         assert_eq!(with.rgb, without.rgb, "{method:?}");
         assert_eq!(with.stats.geometry.triangles_backfacing, 0);
-        assert!(!with.rgb.chunks_exact(3).any(|p| p == [1, 2, 3]));
+        assert!(!with.rgb.chunks_exact(3).any(|p| p == desc.background));
     }
 }
 
