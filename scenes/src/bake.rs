@@ -1,8 +1,9 @@
 //! A scene as Rust source, for firmware build scripts that put it into flash.
 //!
 //! The generated statics (`POSITIONS_i`, `NORMALS_i`, `TRIANGLES_i`,
-//! `OPENINGS_i` where an object has openings, `OBJECTS`, `SCENE`) go through the same float-to-fixed conversion as host-sim, so a
-//! firmware renders the bits host-sim renders. The including module must have these
+//! `OPENINGS_i` where an object has openings, `OBJECTS`, `SCENE`) go through
+//! the same float-to-fixed conversion as host-sim, so a firmware renders the
+//! bits host-sim renders. The including module must have these
 //! names in scope: `Coord` (`mcu_abuffer::fixed_point::Coord`), `I2F14`
 //! (`fixed::types::I2F14`), `Rgb888`, and from `mcu_abuffer::scene` `Camera`,
 //! `Light`, `Mesh`, `Normal`, `Scene`, `SceneObject`, `Shading`, `Transform`.
