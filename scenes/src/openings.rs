@@ -157,12 +157,12 @@ fn check_volumes(
     for t in triangles {
         *volumes.entry(root(&mut parent, t[0])).or_default() += det(*t);
     }
-    // An opening runs opposite to the faces beside it, so the fan that closes
-    // it runs the loop's way round.
+    // The loop runs its edges the way the faces beside it do; the fan that
+    // closes it runs them the other way, as a closed surface would.
     for chain in loops {
         let part = root(&mut parent, chain[0]);
         for w in chain[1..].windows(2) {
-            *volumes.entry(part).or_default() += det([chain[0], w[0], w[1]]);
+            *volumes.entry(part).or_default() += det([chain[0], w[1], w[0]]);
         }
     }
     let mut parts: Vec<(u32, i128)> = volumes.into_iter().collect();
@@ -219,6 +219,32 @@ mod tests {
                 mesh_openings(&builtin_mesh(&name).unwrap()).is_ok(),
                 "{name}"
             );
+        }
+    }
+
+    #[test]
+    fn the_volume_closed_over_an_opening_does_not_depend_on_where_the_mesh_is() {
+        // A closed surface's volume is the same wherever it lies; an open box
+        // closed with its fan too, wherever it lies, and turned inside out it
+        // is refused wherever it lies.
+        for shift in [
+            [0.0, 0.0, 0.0],
+            [50.0, -20.0, -300.0],
+            [0.0, -300.0, 10.0],
+            [0.0, 300.0, 0.0],
+        ] {
+            let mut open_box = builtin_mesh("cube").unwrap();
+            open_box.triangles.truncate(10);
+            for p in &mut open_box.positions {
+                for k in 0..3 {
+                    p[k] += shift[k];
+                }
+            }
+            assert!(mesh_openings(&open_box).is_ok(), "{shift:?}");
+            for t in &mut open_box.triangles {
+                t.swap(1, 2);
+            }
+            assert!(mesh_openings(&open_box).is_err(), "{shift:?}");
         }
     }
 
