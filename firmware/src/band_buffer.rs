@@ -1,6 +1,7 @@
 //! The interface between the rasterizer and the per-band pixel memory.
 
 use crate::coverage::CoverageMask;
+use crate::draw_order::TriangleOrder;
 use crate::fragment::{fragment_depth, Fragment};
 use crate::raster::{band_test_of_box, rasterize_rows, BandTest, RowRange};
 use crate::setup::{ColorPlanes, DepthSetup, Rejection, SetupVertex, TriangleSetup};
@@ -14,6 +15,10 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 /// plain z-buffer ([`crate::zbuffer::ZBuffer`]); tests implement it too (a
 /// per-sample z-buffer is the A-buffer's oracle).
 pub trait BandBuffer<M: CoverageMask> {
+    /// The order in which each band's triangles arrive, within each facing
+    /// group (those facing the viewer come first): nearest first unless a
+    /// buffer says otherwise.
+    const ORDER: TriangleOrder = TriangleOrder::NearestFirst;
     /// Pixels per row.
     fn width(&self) -> u16;
     /// Rows this buffer can hold (the band height `R`).

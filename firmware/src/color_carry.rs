@@ -38,9 +38,9 @@ use crate::shading::{QuadraticPolynomial, NARROW_QUADRATIC_DROPPED_BITS};
 /// entries is all zeros and a `static` one takes no flash for its image.
 const NO_TRIANGLE: u32 = 0;
 
-/// The key an entry of `triangle` holds: triangle numbers are
-/// `object << 24 | triangle` with at most 255 objects, so one more never
-/// wraps and never equals [`NO_TRIANGLE`].
+/// The key an entry of `triangle` holds: triangle numbers are the frame's
+/// order entries, whose bit 30 is always zero (`draw_order`), so one more
+/// never wraps and never equals [`NO_TRIANGLE`].
 #[inline]
 fn key_of(triangle: u32) -> u32 {
     triangle + 1

@@ -22,7 +22,7 @@
 //! planes), `shading` (quadratic and Phong shading, color walkers), `raster`
 //! (with `coverage` masks), `fragment_buffer` (with `visibility`, `merge`,
 //! `pool`) or `zbuffer` (`zbuffer_hiz`, `zbuffer_midpoint`), resolve, `sink`;
-//! `renderer` drives them. Those modules are public for the simulator, the
+//! `renderer` drives them, drawing each band's triangles in `draw_order`. Those modules are public for the simulator, the
 //! system tests and the fuzz targets, but hidden from this documentation and
 //! not part of the stable API.
 //!
@@ -110,6 +110,8 @@ pub mod clip;
 pub mod color_carry;
 #[doc(hidden)]
 pub mod coverage;
+#[doc(hidden)]
+pub mod draw_order;
 #[doc(hidden)]
 pub mod fixed_point;
 #[doc(hidden)]

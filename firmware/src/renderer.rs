@@ -10,6 +10,7 @@ use crate::band_buffer::{BandBuffer, DrawParams};
 use crate::clip::{clip_triangle, ClipVertex};
 use crate::color_carry::{CarriedColors, ColorCarry};
 use crate::coverage::CoverageMask;
+use crate::draw_order::DrawOrder;
 use crate::fixed_point::{Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis, OUT_NEAR};
 use crate::lighting::{color_q8, normalize_unit, LightSetup};
@@ -138,8 +139,9 @@ pub struct FrameWorkspace<'a> {
     /// One entry per triangle over all objects: its first row (below 2048, the
     /// largest image side), or a skip mark (`u16::MAX`).
     pub triangle_rows: &'a mut [u16],
-    /// One entry per triangle: the visiting order (object << 24 | triangle; at
-    /// most 255 objects of at most 2^24 - 1 triangles, else
+    /// One entry per triangle: the visiting order (facing, nearest depth,
+    /// object and triangle in one word; at most 255 objects, and object and
+    /// triangle numbers within 30 bits together, else
     /// [`RenderError::TooManyObjects`]).
     ///
     /// Its first entries double as each band's list of active triangles, so a band
@@ -218,7 +220,10 @@ impl<E: core::fmt::Debug> core::fmt::Display for RenderError<E> {
                 write!(f, "band buffer is {buffer} pixels wide, image is {image}")
             }
             Self::TooManyObjects => {
-                write!(f, "at most 255 objects of at most 16777215 triangles each")
+                write!(
+                    f,
+                    "at most 255 objects, whose object and triangle numbers fit 30 bits together"
+                )
             }
             Self::Sink(e) => write!(f, "line sink failed: {e:?}"),
         }
@@ -248,12 +253,10 @@ fn last_row(entry: u16) -> u16 {
 fn is_back(entry: u16) -> bool {
     entry & BACK_FACING != 0
 }
-const OBJECT_SHIFT: u32 = 24;
-const TRIANGLE_MASK: u32 = (1 << OBJECT_SHIFT) - 1;
-
 struct FrameContext<'s, 'a> {
     scene: &'s Scene<'a>,
     light: Option<LightSetup>,
+    order: DrawOrder,
 }
 
 impl FrameContext<'_, '_> {
@@ -416,18 +419,16 @@ where
             image: scene.width,
         });
     }
-    if scene.objects.len() > 255
-        || scene
-            .objects
-            .iter()
-            .any(|o| o.mesh.triangles.len() > TRIANGLE_MASK as usize)
-    {
-        return Err(RenderError::TooManyObjects);
-    }
+    let most_triangles = scene.objects.iter().map(|o| o.mesh.triangles.len());
+    let most_triangles = most_triangles.max().unwrap_or(0);
+    let order = DrawOrder::new(scene.objects.len(), most_triangles, B::ORDER)
+        .filter(|_| scene.objects.len() <= 255)
+        .ok_or(RenderError::TooManyObjects)?;
     let view = ViewBasis::new(&scene.camera).ok_or(RenderError::Scene(SceneError::CameraBasis))?;
     let ctx = FrameContext {
         scene,
         light: scene.light.as_ref().map(|l| LightSetup::new(l, &view)),
+        order,
     };
     let mut stats = FrameStats::default();
     stats.geometry.triangles_in = n_triangles as u32;
@@ -464,31 +465,26 @@ where
         let mut kept = 0;
         for i in 0..active {
             let t = ws.triangle_order[i];
-            if last_row(ws.triangle_rows[global_index(ws.objects, t)]) >= y0 {
+            if last_row(ws.triangle_rows[global_index(&ctx, ws.objects, t)]) >= y0 {
                 ws.triangle_order[kept] = t;
                 kept += 1;
             }
         }
         active = kept;
-        // Add triangles that start in this band (the counting sort's row starts).
+        // Add triangles that start in this band (the counting sort's row
+        // starts), in drawing order: front faces first, then the back faces
+        // of two-sided objects, each nearest first. Surfaces drawn early
+        // hide what arrives behind them, which then costs no colors and no
+        // memory.
         let starting = (ws.row_starts[y_end as usize - 1] as usize).min(binned);
-        while next < starting {
-            ws.triangle_order[active] = ws.triangle_order[next];
-            active += 1;
-            next += 1;
+        if next < starting {
+            active = DrawOrder::admit(ws.triangle_order, active, (next, starting), binned);
+            next = starting;
         }
-        // Front faces first, then the back faces of two-sided objects: surfaces
-        // that face the viewer hide most of what faces away, which then costs
-        // no colors and no memory.
-        'draw: for back in [false, true] {
-            for i in 0..active {
-                let t = ws.triangle_order[i];
-                if is_back(ws.triangle_rows[global_index(ws.objects, t)]) == back {
-                    draw_triangle(&ctx, &frame, t, y0, rows, buffer, &mut stats.geometry);
-                    if rows > 1 && buffer.pool_use().ran_out {
-                        break 'draw;
-                    }
-                }
+        for &t in &ws.triangle_order[..active] {
+            draw_triangle(&ctx, &frame, t, y0, rows, buffer, &mut stats.geometry);
+            if rows > 1 && buffer.pool_use().ran_out {
+                break;
             }
         }
         let pool = buffer.pool_use();
@@ -587,13 +583,8 @@ fn transform_vertices(
 use embedded_graphics_core::pixelcolor::RgbColor;
 
 #[inline]
-fn split(t: u32) -> (usize, usize) {
-    ((t >> OBJECT_SHIFT) as usize, (t & TRIANGLE_MASK) as usize)
-}
-
-#[inline]
-fn global_index(objects: &[ObjectFrame], t: u32) -> usize {
-    let (o, i) = split(t);
+fn global_index(ctx: &FrameContext<'_, '_>, objects: &[ObjectFrame], t: u32) -> usize {
+    let (o, i) = ctx.order.split(t);
     objects[o].triangle_base as usize + i
 }
 
@@ -604,7 +595,7 @@ fn corners_of(
     vertices: &[ScreenVertex],
     t: u32,
 ) -> [ScreenVertex; 3] {
-    let (o, i) = split(t);
+    let (o, i) = ctx.order.split(t);
     let base = objects[o].vertex_base as usize;
     let tri = ctx.scene.objects[o].mesh.triangles[i];
     tri.map(|v| vertices[base + v as usize])
@@ -638,7 +629,7 @@ fn triangle_rows(
     let v = corners(ctx, ws, t);
     let and = v[0].outcode() & v[1].outcode() & v[2].outcode();
     let or = v[0].outcode() | v[1].outcode() | v[2].outcode();
-    let (o, i) = split(t);
+    let (o, i) = ctx.order.split(t);
     let object = &scene.objects[o];
     let (min_y, max_y, back) = if and != 0 {
         stats.triangles_outside += 1;
@@ -709,7 +700,7 @@ fn bin_triangles(
     // Count by first row; each entry keeps its triangle's last row and facing.
     for (oi, object) in scene.objects.iter().enumerate() {
         for ti in 0..object.mesh.triangles.len() {
-            let t = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
+            let t = ctx.order.number(oi, ti);
             ws.triangle_rows[g] = match triangle_rows(ctx, ws, t, stats) {
                 Some((first, last, back)) => {
                     ws.row_starts[first as usize + 1] += 1;
@@ -729,8 +720,9 @@ fn bin_triangles(
     let mut unused = GeometryStats::default();
     for (oi, object) in scene.objects.iter().enumerate() {
         for ti in 0..object.mesh.triangles.len() {
-            if ws.triangle_rows[g] != SKIP_ROW {
-                let t = ((oi as u32) << OBJECT_SHIFT) | ti as u32;
+            let entry = ws.triangle_rows[g];
+            if entry != SKIP_ROW {
+                let t = ctx.order.number(oi, ti);
                 let v = corners(ctx, ws, t);
                 let first = if v.iter().any(|p| p.outcode() != 0) {
                     triangle_rows(ctx, ws, t, &mut unused).map_or(0, |(first, _, _)| first)
@@ -738,8 +730,10 @@ fn bin_triangles(
                     let top = v.iter().map(|p| p.y()).min().unwrap_or(0) >> SUBPIXEL_BITS;
                     top.max(0) as u16
                 };
+                let nearest = v.iter().map(|p| p.z()).min().unwrap_or(0);
                 let slot = &mut ws.row_starts[first as usize];
-                ws.triangle_order[*slot as usize] = t;
+                ws.triangle_order[*slot as usize] =
+                    ctx.order.entry((oi, ti), is_back(entry), nearest, first);
                 *slot += 1;
             }
             g += 1;
@@ -760,7 +754,7 @@ fn color_source<'f>(
     corners: &[ScreenVertex; 3],
 ) -> ColorSource<'f> {
     let colors = || corners.map(|p| p.color().map(|c| (c as i32) << 8));
-    let (o, i) = split(t);
+    let (o, i) = ctx.order.split(t);
     let object = &ctx.scene.objects[o];
     let eye_normals = || {
         let tri = object.mesh.triangles[i];
@@ -826,7 +820,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     buffer: &mut B,
     stats: &mut GeometryStats,
 ) {
-    let (o, i) = split(t);
+    let (o, i) = ctx.order.split(t);
     let object = &ctx.scene.objects[o];
     let v = corners_of(ctx, frame.objects, frame.vertices, t);
     let or = v[0].outcode() | v[1].outcode() | v[2].outcode();

@@ -44,6 +44,7 @@
 
 use crate::band_buffer::{BandBuffer, DrawParams};
 use crate::coverage::Mask1x1;
+use crate::draw_order::TriangleOrder;
 use crate::fixed_point::{GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::Fragment;
 use crate::raster::rasterize;
@@ -716,6 +717,8 @@ fn ordered_corners(v: &[SetupVertex; 3]) -> [TestPoint; 3] {
 }
 
 impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
+    const ORDER: TriangleOrder = TriangleOrder::FirstRow;
+
     fn width(&self) -> u16 {
         self.width
     }

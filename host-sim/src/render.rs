@@ -5,6 +5,7 @@ use abuffer_test_support::{render_rgb, FragmentStorage, OwnedWorkspace};
 use embedded_graphics_core::pixelcolor::Rgb888;
 use mcu_abuffer::band_buffer::{draw_in_band, BandBuffer, DrawParams, FullRun, PoolUse};
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
+use mcu_abuffer::draw_order::TriangleOrder;
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::fragment_buffer::{BufferConfig, OverflowPolicy};
@@ -219,6 +220,7 @@ impl<B> CountingBuffer<B> {
 }
 
 impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<B> {
+    const ORDER: TriangleOrder = B::ORDER;
     fn width(&self) -> u16 {
         self.inner.width()
     }

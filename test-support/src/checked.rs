@@ -3,6 +3,7 @@
 use embedded_graphics_core::pixelcolor::Rgb888;
 use mcu_abuffer::band_buffer::{BandBuffer, PoolUse};
 use mcu_abuffer::coverage::{CoverageMask, Mask1x1};
+use mcu_abuffer::draw_order::TriangleOrder;
 use mcu_abuffer::fixed_point::DEPTH_MAX;
 use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::fragment_buffer::FragmentBuffer;
@@ -163,6 +164,8 @@ impl<B> Checked<B> {
 }
 
 impl<M: CoverageMask, B: Inspect<M>> BandBuffer<M> for Checked<B> {
+    const ORDER: TriangleOrder = B::ORDER;
+
     fn width(&self) -> u16 {
         self.inner.width()
     }

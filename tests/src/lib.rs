@@ -10,7 +10,7 @@ use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::clip::{clip_triangle, ClipVertex};
 use mcu_abuffer::coverage::CoverageMask;
-use mcu_abuffer::fixed_point::Coord;
+use mcu_abuffer::fixed_point::{Coord, DEPTH_MAX};
 use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::geometry::{outcode, project, ObjectTransform, ViewBasis};
 use mcu_abuffer::renderer::FrameOptions;
@@ -417,14 +417,22 @@ fn assemble(rng: &mut Rng, p: &SceneParams, tris: Vec<[[f64; 3]; 3]>) -> OwnedSc
 }
 
 /// The order in which the renderer visits triangles within a pixel: triangles
-/// facing the viewer before those facing away, each sorted by the first image
-/// row of their window bounding box (of the clipped polygon for clipped
-/// triangles, which count as facing the viewer), stable in scene order.
-/// Triangles the renderer skips (outside, back-facing and culled, degenerate)
-/// get `None`. Mirrors the binning and the band passes of `render_frame`.
+/// facing the viewer before those facing away (clipped triangles count as
+/// facing the viewer), each group by the top bits of its nearest corner's
+/// window depth (a corner outside the view volume counts as depth 0), then
+/// by object and triangle. With `b` the bits that number the objects and
+/// the largest mesh's triangles, the depth keeps `min(30 - b, 24)` bits.
+/// The second value is the first image row of the triangle's window
+/// bounding box (of the clipped polygon for clipped triangles); triangles
+/// the renderer skips (outside, back-facing and culled, degenerate) get
+/// `None`. Mirrors the binning and the draw order of `render_frame`.
 pub fn visiting_order(scene: &OwnedScene) -> Vec<((usize, usize), Option<u16>)> {
     let view = ViewBasis::new(&scene.camera).expect("camera basis");
     let (w, h) = (scene.width as i32, scene.height as i32);
+    let bits = |n: usize| usize::BITS - n.saturating_sub(1).leading_zeros();
+    let most = scene.objects.iter().map(|o| o.triangles.len()).max();
+    let number_bits = bits(scene.objects.len()) + bits(most.unwrap_or(0));
+    let depth_drop = 24 - (30 - number_bits).min(24);
     let mut keyed = Vec::new();
     for (oi, o) in scene.objects.iter().enumerate() {
         let xf = ObjectTransform::new(
@@ -438,6 +446,13 @@ pub fn visiting_order(scene: &OwnedScene) -> Vec<((usize, usize), Option<u16>)> 
         for (ti, tri) in o.triangles.iter().enumerate() {
             let clip = tri.map(|v| xf.to_clip(&o.positions[v as usize]));
             let codes = clip.map(|c| outcode(&c));
+            let nearest = (0..3)
+                .map(|k| match codes[k] {
+                    0 => project(&clip[k]).2.min(DEPTH_MAX),
+                    _ => 0,
+                })
+                .min()
+                .unwrap_or(0);
             let mut back = false;
             let row = if codes[0] & codes[1] & codes[2] != 0 {
                 None
@@ -479,11 +494,11 @@ pub fn visiting_order(scene: &OwnedScene) -> Vec<((usize, usize), Option<u16>)> 
                     Some(min_y.max(0) as u16)
                 }
             };
-            keyed.push(((oi, ti), row, back));
+            keyed.push(((oi, ti), row, (back, nearest >> depth_drop)));
         }
     }
-    // Stable sort: skipped ones last, the rest by facing, then row.
-    keyed.sort_by_key(|&(_, row, back)| row.map_or(u32::MAX, |r| r as u32 + ((back as u32) << 16)));
+    // Skipped ones last, the rest by facing, depth, object and triangle.
+    keyed.sort_by_key(|&(t, row, key)| (row.is_none(), key, t));
     keyed.into_iter().map(|(t, row, _)| (t, row)).collect()
 }
 

@@ -19,6 +19,7 @@ use defmt_semihosting as _;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::{BandBuffer, PoolUse};
 use mcu_abuffer::coverage::CoverageMask;
+use mcu_abuffer::draw_order::TriangleOrder;
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::renderer::{render_frame, FrameOptions, FrameWorkspace};
 use mcu_abuffer::sink::LineSink;
@@ -154,6 +155,7 @@ struct ProfiledBuffer<'b, B> {
 }
 
 impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> {
+    const ORDER: TriangleOrder = B::ORDER;
     fn width(&self) -> u16 {
         self.inner.width()
     }
