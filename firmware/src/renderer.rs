@@ -2,9 +2,10 @@
 //! row, then renders the image band by band into a [`BandBuffer`] and streams the
 //! resolved lines to a [`LineSink`].
 //!
-//! Order of work within a pixel is the same for every band height: triangles are
-//! visited sorted by their first row (then by scene order), and each band sees the
-//! active ones in that order. Only the band's pixel memory depends on `R`.
+//! Order of work within a pixel is the same for every band height: each band
+//! draws its active triangles in one total order, the faces of the viewer before
+//! those turned away and each group nearest first ([`crate::draw_order`]). Only
+//! the band's pixel memory depends on `R`.
 
 use crate::band_buffer::{BandBuffer, DrawParams};
 use crate::clip::{clip_triangle, ClipVertex};
@@ -136,8 +137,9 @@ pub struct FrameWorkspace<'a> {
     pub objects: &'a mut [ObjectFrame],
     /// One entry per vertex over all objects.
     pub vertices: &'a mut [ScreenVertex],
-    /// One entry per triangle over all objects: its first row (below 2048, the
-    /// largest image side), or a skip mark (`u16::MAX`).
+    /// One entry per triangle over all objects: its last row (below 2048, the
+    /// largest image side) and whether it faces away, or a skip mark
+    /// (`u16::MAX`).
     pub triangle_rows: &'a mut [u16],
     /// One entry per triangle: the visiting order (facing, nearest depth,
     /// object and triangle in one word; at most 255 objects, and object and
