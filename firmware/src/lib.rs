@@ -22,9 +22,10 @@
 //! planes), `shading` (quadratic and Phong shading, color walkers), `raster`
 //! (with `coverage` masks), `fragment_buffer` (with `visibility`, `merge`,
 //! `pool`) or `zbuffer` (`zbuffer_hiz`, `zbuffer_midpoint`), resolve, `sink`;
-//! `renderer` drives them, drawing each band's triangles in `draw_order`. Those modules are public for the simulator, the
-//! system tests and the fuzz targets, but hidden from this documentation and
-//! not part of the stable API.
+//! `renderer` drives them, drawing each band's triangles in `draw_order`.
+//! Those modules are public for the simulator, the system tests and the fuzz
+//! targets, but hidden from this documentation and not part of the stable
+//! API.
 //!
 //! # Add it to your firmware
 //!
