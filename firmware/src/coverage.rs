@@ -416,13 +416,8 @@ mod tests {
 
     #[test]
     fn sorted_thresholds_equal_sample_by_sample() {
-        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = |range: i64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % (2 * range as u64 + 1)) as i64 - range
-        };
+        let mut xorshift = crate::test_rng::xorshift(0x9E37_79B9_7F4A_7C15);
+        let mut next = |range: i64| (xorshift() % (2 * range as u64 + 1)) as i64 - range;
         for round in 0..400_000 {
             // Small steps (exact ties are frequent), then any up to 2^18.
             let range = if round % 2 == 0 { 24 } else { 1 << 18 };

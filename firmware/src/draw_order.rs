@@ -243,13 +243,8 @@ mod tests {
     /// way it merges.
     #[test]
     fn admitted_entries_are_sorted_with_the_kept_ones() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |n: u64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed % n
-        };
+        let mut xorshift = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
+        let mut next = |n: u64| xorshift() % n;
         for round in 0..4000 {
             let len = 1 + next(40) as usize;
             let binned = next(len as u64 + 1) as usize;

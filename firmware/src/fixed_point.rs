@@ -325,6 +325,7 @@ pub const fn saturate(v: i64, limit: i64) -> i64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::xorshift;
 
     #[test]
     fn isqrt_exact_and_floor() {
@@ -334,17 +335,6 @@ mod tests {
         }
         assert_eq!(isqrt_u64(u64::MAX), u32::MAX as u64);
         assert_eq!(isqrt_u64(1 << 62), 1 << 31);
-    }
-
-    /// A xorshift sequence from `seed` (not zero): test inputs that are the
-    /// same on every run.
-    fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
-        move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        }
     }
 
     #[test]

@@ -139,6 +139,8 @@ pub mod setup;
 pub mod shading;
 #[doc(hidden)]
 pub mod stack;
+#[cfg(test)]
+mod test_rng;
 #[doc(hidden)]
 pub mod visibility;
 #[doc(hidden)]
