@@ -144,6 +144,15 @@ pub trait BandBuffer<M: CoverageMask> {
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32;
     /// Counters since the last [`BandBuffer::take_stats`].
     fn stats(&self) -> BufferStats;
+    /// Fragments hidden on arrival plus triangles hidden in a whole band,
+    /// since the last [`BandBuffer::take_stats`]: a count the frame driver
+    /// reads around each triangle to tell whether the buffer hid it, without
+    /// copying the statistics.
+    #[inline]
+    fn hidden_count(&self) -> u32 {
+        let stats = self.stats();
+        stats.fragments_hidden_on_arrival + stats.triangles_culled
+    }
     /// Returns the counters and zeroes them.
     fn take_stats(&mut self) -> BufferStats;
 }
@@ -212,7 +221,7 @@ pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
     // that fits the M4 (layers included). The test asks what it can from the
     // box and the depth plane before the edges are set up.
     let mut ask_spans = None;
-    if accepted.faces_away() {
+    if accepted.faces_away() || params.test_whole_band {
         let plane = (&depth.plane, depth.dzdx, depth.dzdy);
         match band_test_of_box(accepted.screen_box(), plane, band_y0, band_rows, buffer) {
             BandTest::Hidden => return Ok(()),
@@ -259,4 +268,9 @@ pub struct DrawParams<'c> {
     pub width: u16,
     /// Image height.
     pub height: u16,
+    /// Whether a face of the viewer meets the whole-band test too (faces
+    /// turned away always do): the frame driver asks for it after a
+    /// triangle the buffer hid, since triangles drawn nearest first come
+    /// hidden in runs, behind whatever hid the first of them.
+    pub test_whole_band: bool,
 }

@@ -920,6 +920,11 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         }
     }
 
+    #[inline]
+    fn hidden_count(&self) -> u32 {
+        self.stats.fragments_hidden_on_arrival + self.stats.triangles_culled
+    }
+
     fn take_stats(&mut self) -> BufferStats {
         let s = self.stats();
         self.stats = BufferStats::default();

@@ -237,6 +237,13 @@ impl<E: core::fmt::Debug> core::fmt::Display for RenderError<E> {
 pub struct FrameOptions {
     /// Extra rotation of every object about the world Y axis, degrees (turntables).
     pub turntable_deg: Coord,
+    /// Rasterize every face of the viewer in full, so that the buffer's
+    /// count of fragments generated measures the scene's depth complexity.
+    /// When `false` (the default), a face of the viewer drawn right after a
+    /// triangle the buffer hid meets the whole-band test first and is
+    /// skipped when the band hides it. The image is the same either way;
+    /// only the counts of fragments differ.
+    pub rasterize_every_front_face: bool,
 }
 
 /// `triangle_rows` entry of a triangle that is not drawn.
@@ -483,8 +490,17 @@ where
             active = DrawOrder::admit(ws.triangle_order, active, (next, starting), binned);
             next = starting;
         }
+        // Whether the buffer hid the last triangle: it asked for no colors,
+        // and fragments or the whole triangle were hidden. Triangles drawn
+        // nearest first come hidden in runs, behind whatever hid the first.
+        let mut after_hidden = false;
         for &t in &ws.triangle_order[..active] {
-            draw_triangle(&ctx, &frame, t, y0, rows, buffer, &mut stats.geometry);
+            let (requests, hidden) = (color_requests.get(), buffer.hidden_count());
+            let band = (y0, rows, after_hidden);
+            draw_triangle(&ctx, &frame, t, band, buffer, &mut stats.geometry);
+            after_hidden = !options.rasterize_every_front_face
+                && color_requests.get() == requests
+                && buffer.hidden_count() != hidden;
             if rows > 1 && buffer.pool_use().ran_out {
                 break;
             }
@@ -817,8 +833,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     ctx: &FrameContext<'_, '_>,
     frame: &FrameVertices<'_, '_>,
     t: u32,
-    y0: u16,
-    rows: u16,
+    (y0, rows, after_hidden): (u16, u16, bool),
     buffer: &mut B,
     stats: &mut GeometryStats,
 ) {
@@ -849,6 +864,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
             colors: &lazy,
             width: ctx.scene.width,
             height: ctx.scene.height,
+            test_whole_band: after_hidden,
         };
         // Rejections were counted when binning.
         let _ = buffer.draw_triangle(&v.map(|p| setup_vertex(&p)), &params, y0, rows);
@@ -860,6 +876,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         colors: &|setup: &TriangleSetup| setup.color_planes(colors),
         width: ctx.scene.width,
         height: ctx.scene.height,
+        test_whole_band: false,
     };
     // Clipped path: transform the corners again at full range and cut the triangle.
     let transform = &frame.objects[o].transform;

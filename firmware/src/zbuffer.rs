@@ -177,6 +177,11 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         }
     }
 
+    #[inline]
+    fn hidden_count(&self) -> u32 {
+        self.stats.fragments_hidden_on_arrival + self.stats.triangles_culled
+    }
+
     fn take_stats(&mut self) -> BufferStats {
         let stats = self.stats();
         self.stats = BufferStats::default();

@@ -348,6 +348,7 @@ mod tests {
             colors,
             width: W,
             height: H,
+            test_whole_band: false,
         }
     }
 

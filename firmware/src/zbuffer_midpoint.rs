@@ -850,6 +850,7 @@ mod tests {
             colors,
             width: W,
             height: H,
+            test_whole_band: false,
         }
     }
 

@@ -87,6 +87,7 @@ fuzz_target!(|data: &[u8]| {
         turntable_deg: mcu_abuffer::fixed_point::Coord::from_bits(
             abuffer_scenes::fixed_bits::coord_bits(angle),
         ),
+        ..FrameOptions::default()
     };
     let checked = render_checked(&scene, &options, &params, false);
     assert!(

@@ -148,6 +148,7 @@ pub fn measure(
         scene,
         &RenderConfig {
             method: Method::Unlimited,
+            rasterize_every_front_face: true,
             ..base
         },
         angle,

@@ -108,6 +108,12 @@ struct RenderArgs {
     /// so that only the "hidden" verdict can be wrong.
     #[arg(long)]
     midpoint_safe: bool,
+    /// Rasterize every face of the viewer in full, so that the fragments
+    /// generated in the statistics measure depth complexity (the image is
+    /// the same; by default a face drawn right after a hidden triangle is
+    /// skipped when the whole band hides it).
+    #[arg(long)]
+    every_front_face: bool,
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {
@@ -146,6 +152,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
             max: args.subdiv_max,
             safe: args.midpoint_safe,
         },
+        rasterize_every_front_face: args.every_front_face,
     };
     if args.turntable || args.frames.is_some() {
         if !args.turntable {

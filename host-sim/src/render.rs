@@ -114,6 +114,10 @@ pub struct RenderConfig {
     pub ssaa: u8,
     /// Subdivision of [`Method::ZbufferMidpoint`].
     pub midpoint: MidpointSettings,
+    /// Rasterize every face of the viewer in full, so that the fragments
+    /// generated measure depth complexity (the library's
+    /// `FrameOptions::rasterize_every_front_face`; the image is the same).
+    pub rasterize_every_front_face: bool,
 }
 
 /// How [`Method::ZbufferMidpoint`] subdivides (the library's
@@ -171,6 +175,7 @@ impl Default for RenderConfig {
             band: defaults::BAND_ROWS,
             ssaa: 4,
             midpoint: MidpointSettings::default(),
+            rasterize_every_front_face: false,
         }
     }
 }
@@ -186,9 +191,12 @@ pub struct RenderOutput {
     pub rgb: Vec<u8>,
     /// Frame statistics.
     pub stats: FrameStats,
-    /// Fragments the rasterizer produced per pixel (depth complexity before
-    /// visibility). All zero for `zbuffer-hiz` and `zbuffer-midpoint`, whose
-    /// buffers rasterize (or skip) whole triangles themselves.
+    /// Fragments the rasterizer produced per pixel: the depth complexity
+    /// before visibility when [`RenderConfig::rasterize_every_front_face`]
+    /// is set (faces turned away that a whole-band test shows hidden are
+    /// skipped all the same). All zero for `zbuffer-hiz` and
+    /// `zbuffer-midpoint`, whose buffers rasterize (or skip) whole triangles
+    /// themselves.
     pub generated_per_pixel: Vec<u16>,
     /// Fragments stored per pixel after all insertions (after visibility and merging).
     pub stored_per_pixel: Vec<u8>,
@@ -299,6 +307,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<B> {
     fn stats(&self) -> BufferStats {
         self.inner.stats()
     }
+    fn hidden_count(&self) -> u32 {
+        self.inner.hidden_count()
+    }
     fn take_stats(&mut self) -> BufferStats {
         self.inner.take_stats()
     }
@@ -348,6 +359,7 @@ pub fn render_frames(
         turntable_degs,
         workspace: OwnedWorkspace::for_scene(&lib_scene),
         forward_triangles: matches!(config.method, Method::ZbufferHiz | Method::ZbufferMidpoint),
+        rasterize_every_front_face: config.rasterize_every_front_face,
         pool_slots: 0,
         start,
     };
@@ -441,6 +453,8 @@ struct Frames<'s> {
     turntable_degs: &'s [f32],
     workspace: OwnedWorkspace,
     forward_triangles: bool,
+    /// [`RenderConfig::rasterize_every_front_face`].
+    rasterize_every_front_face: bool,
     pool_slots: usize,
     start: Instant,
 }
@@ -463,6 +477,7 @@ impl Frames<'_> {
         for &angle in self.turntable_degs {
             let options = FrameOptions {
                 turntable_deg: Coord::saturating_from_num(angle),
+                rasterize_every_front_face: self.rasterize_every_front_face,
             };
             counting.generated = vec![0; pixels];
             let mut stored = vec![0u8; pixels];

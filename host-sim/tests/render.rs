@@ -238,6 +238,51 @@ fn same_image_twice(scene: &str, turn: f32) {
 }
 
 #[test]
+fn skipping_faces_after_a_hidden_triangle_changes_no_image() {
+    // After a triangle the buffer hid, the renderer tests the next face of
+    // the viewer against the whole band and skips it when hidden. The test
+    // is exact: the image must be the one every face rasterized in full
+    // gives, with no more fragments generated; on the spheres, whose
+    // surfaces hide one another, it must skip some.
+    for scene in host_sim::builtins::BUILTIN_SCENES {
+        let fixed = to_fixed(&builtin_scene(scene, 96, 96).unwrap()).unwrap();
+        for (method, band) in [
+            (Method::Unlimited, 16),
+            (Method::Shared, 16),
+            (Method::SplitBands, 4),
+            (Method::FixedDiscard, 6),
+            (Method::MergeClosest, 4),
+            (Method::Zbuffer, 24),
+        ] {
+            let cfg = RenderConfig {
+                method,
+                band,
+                ..Default::default()
+            };
+            let every = RenderConfig {
+                rasterize_every_front_face: true,
+                ..cfg
+            };
+            let turns = [0.0, 100.0];
+            let skipping = render_frames(&fixed, &cfg, &turns).unwrap();
+            let full = render_frames(&fixed, &every, &turns).unwrap();
+            for (i, (a, b)) in skipping.iter().zip(&full).enumerate() {
+                let what = format!("{scene} frame {i}, {method:?} in bands of {band}");
+                assert!(a.rgb == b.rgb, "{what}: images differ");
+                let (made, all) = (
+                    a.stats.buffer.fragments_generated,
+                    b.stats.buffer.fragments_generated,
+                );
+                assert!(made <= all, "{what}: {made} fragments, {all} in full");
+                if *scene == "spheres" {
+                    assert!(made < all, "{what}: nothing skipped ({made} fragments)");
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn command_line_renders_a_builtin_scene() {
     let dir = std::env::temp_dir().join(format!("host-sim-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

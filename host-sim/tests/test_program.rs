@@ -129,6 +129,7 @@ fn compare_gives_the_exact_nmse_of_hand_made_images() {
 fn synthetic_scenes_render_the_same_for_a_seed() {
     let cfg = RenderConfig {
         method: Method::Unlimited,
+        rasterize_every_front_face: true,
         ..Default::default()
     };
     let image = |name: &str| {

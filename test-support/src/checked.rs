@@ -283,6 +283,9 @@ impl<M: CoverageMask, B: Inspect<M>> BandBuffer<M> for Checked<B> {
         self.inner.stats()
     }
 
+    fn hidden_count(&self) -> u32 {
+        self.inner.hidden_count()
+    }
     fn take_stats(&mut self) -> BufferStats {
         self.inner.take_stats()
     }

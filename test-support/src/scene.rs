@@ -57,6 +57,7 @@ impl OwnedScene {
     pub fn options(&self) -> FrameOptions {
         FrameOptions {
             turntable_deg: self.turntable_deg,
+            ..FrameOptions::default()
         }
     }
 

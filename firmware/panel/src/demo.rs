@@ -144,6 +144,7 @@ where
 {
     let options = FrameOptions {
         turntable_deg: angle_deg,
+        ..FrameOptions::default()
     };
     let stats = render_frame(scene, &options, workspace, buffer, stream, |_, _, _| {})?;
     stream.end_frame().map_err(RenderError::Sink)?;

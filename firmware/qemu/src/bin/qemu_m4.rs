@@ -269,6 +269,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
     fn stats(&self) -> mcu_abuffer::stats::BufferStats {
         self.inner.stats()
     }
+    fn hidden_count(&self) -> u32 {
+        self.inner.hidden_count()
+    }
     fn take_stats(&mut self) -> mcu_abuffer::stats::BufferStats {
         self.inner.take_stats()
     }
@@ -299,6 +302,7 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
         };
         let options = FrameOptions {
             turntable_deg: Coord::from_bits(angle),
+            ..FrameOptions::default()
         };
         let start = ticks();
         let mut profile = StageTicks {
