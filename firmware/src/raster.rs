@@ -16,8 +16,10 @@
 //! Fragments are first offered to the buffer without a color; a triangle's
 //! colors are set up when its first fragment survives, and a triangle facing
 //! away that the buffer already hides in the whole band is skipped before any
-//! fragment ([`hidden_in_band`]); where the test finds a pixel the buffer
-//! does not hide, the search for the first surviving fragment starts there.
+//! fragment ([`hidden_in_band`]), as is a face of the viewer the frame
+//! driver asks about (`DrawParams::test_whole_band`, after a triangle the
+//! buffer hid); where the test finds a pixel the buffer does not hide, the
+//! search for the first surviving fragment starts there.
 
 use crate::band_buffer::{BandBuffer, FullRun};
 use crate::coverage::CoverageMask;

@@ -2,8 +2,8 @@
 //!
 //! These are the host-side, floating-point form of a scene. They are converted
 //! once into the renderer's fixed-point form (`mcu_abuffer::scene`) by
-//! [`crate::convert`], so everything after loading is integer arithmetic and
-//! identical on the host and on a device.
+//! host-sim's `convert` module, so everything after loading is integer
+//! arithmetic and identical on the host and on a device.
 
 /// A triangle mesh with one normal per vertex.
 #[derive(Clone, Debug, Default, PartialEq)]
