@@ -200,9 +200,10 @@ pub fn insert_each<M: CoverageMask, B: BandBuffer<M>, W: ColorWalk>(
 }
 
 /// What [`BandBuffer::draw_triangle`] does by default: sets the triangle up,
-/// skips it when it faces away and `buffer` already hides it in the whole
-/// band, and otherwise rasterizes it, setting up its colors only when a
-/// fragment survives.
+/// skips it when none of its rows in the band can hold a sample, or when it
+/// faces away (or the frame driver asks) and `buffer` already hides it in
+/// the whole band, and otherwise rasterizes its rows that can hold samples,
+/// setting up its colors only when a fragment survives.
 /// Wrappers that override `draw_triangle` call this to draw the same way.
 pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
     buffer: &mut B,
@@ -213,17 +214,27 @@ pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
 ) -> Result<(), Rejection> {
     let accepted =
         TriangleSetup::accept(vertices, params.cull_backfaces, params.width, params.height)?;
+    // Only rows whose samples reach into the triangle's height can hold its
+    // fragments; a band without such a row costs nothing more (on the
+    // z-buffer, whose one sample is the pixel center, that is half a row at
+    // each end of the triangle on average).
+    let in_band = |rows| RowRange::of_rows(rows, band_y0, band_rows);
+    let Some(rows) = accepted.sample_rows::<M>().and_then(in_band) else {
+        return Ok(());
+    };
     let depth = DepthSetup::of(&accepted);
     // Faces turned away are drawn after the faces of the viewer and are mostly
     // behind them: for those a whole-triangle test pays. A face turned to the
     // viewer is rarely hidden and its probe finds a visible fragment as soon;
-    // testing those too cost 1-3 % more instructions on every built-in scene
-    // that fits the M4 (layers included). The test asks what it can from the
-    // box and the depth plane before the edges are set up.
+    // testing every one cost 1-3 % more instructions on every built-in scene
+    // that fits the M4 (layers included), so it is tested only when the frame
+    // driver asks (after a triangle the buffer hid: hidden ones come in
+    // runs). The test asks what it can from the box and the depth plane
+    // before the edges are set up.
     let mut ask_spans = None;
     if accepted.faces_away() || params.test_whole_band {
         let plane = (&depth.plane, depth.dzdx, depth.dzdy);
-        match band_test_of_box(accepted.screen_box(), plane, band_y0, band_rows, buffer) {
+        match band_test_of_box(accepted.screen_box(), plane, rows, buffer) {
             BandTest::Hidden => return Ok(()),
             BandTest::Shown => {}
             BandTest::AskSpans(rows) => ask_spans = Some(rows),
@@ -231,13 +242,7 @@ pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
     }
     let setup = TriangleSetup::build_with(&accepted, depth);
     // With the pixel step still to ask, the probe starts where it stopped.
-    let (rows, test_spans) = match ask_spans {
-        Some(rows) => (rows, true),
-        None => match RowRange::in_band(&setup.screen_box(), band_y0, band_rows) {
-            Some(rows) => (rows, false),
-            None => return Ok(()),
-        },
-    };
+    let (rows, test_spans) = (ask_spans.unwrap_or(rows), ask_spans.is_some());
     rasterize_rows(&setup, rows, test_spans, buffer, || (params.colors)(&setup));
     Ok(())
 }

@@ -237,7 +237,10 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
     buffer: &mut B,
 ) -> bool {
     let depth = (&setup.depth, setup.dzdx, setup.dzdy);
-    match band_test_of_box(setup.screen_box(), depth, band_y0, band_rows, buffer) {
+    let Some(rows) = RowRange::in_band(&setup.screen_box(), band_y0, band_rows) else {
+        return false;
+    };
+    match band_test_of_box(setup.screen_box(), depth, rows, buffer) {
         BandTest::Hidden => true,
         BandTest::Shown => false,
         BandTest::AskSpans(rows) => {
@@ -272,13 +275,9 @@ pub(crate) enum BandTest {
 pub(crate) fn band_test_of_box<M: CoverageMask, B: BandBuffer<M>>(
     screen_box: ScreenBox,
     (d, dzdx, dzdy): (&Plane, i32, i32),
-    band_y0: u16,
-    band_rows: u16,
+    rows: RowRange,
     buffer: &mut B,
 ) -> BandTest {
-    let Some(rows) = RowRange::in_band(&screen_box, band_y0, band_rows) else {
-        return BandTest::Shown;
-    };
     let ScreenBox { x0, y0, x1, .. } = screen_box;
     let (i1, j0, j1) = (
         (x1 - x0) as i64,
@@ -438,16 +437,23 @@ impl RowRange {
     /// image row `band_y0`; `None` when the box has no pixel there.
     #[inline(always)]
     pub(crate) fn in_band(screen_box: &ScreenBox, band_y0: u16, band_rows: u16) -> Option<Self> {
+        if screen_box.x0 > screen_box.x1 {
+            return None;
+        }
+        Self::of_rows((screen_box.y0, screen_box.y1), band_y0, band_rows)
+    }
+
+    /// Image rows `first..=last` within the band of `band_rows` rows from
+    /// image row `band_y0`; `None` when none is there.
+    #[inline(always)]
+    pub(crate) fn of_rows((first, last): (u16, u16), band_y0: u16, band_rows: u16) -> Option<Self> {
         if band_rows == 0 {
             return None;
         }
         let band_last = band_y0 as u32 + band_rows as u32 - 1;
-        let first = screen_box.y0.max(band_y0);
-        let last = (screen_box.y1 as u32).min(band_last) as u16;
-        if first > last || screen_box.x0 > screen_box.x1 {
-            return None;
-        }
-        Some(Self {
+        let first = first.max(band_y0);
+        let last = (last as u32).min(band_last) as u16;
+        (first <= last).then_some(Self {
             first,
             last,
             band_y0,

@@ -14,6 +14,7 @@
 //! Ranges: vertices lie within the guard band, so `|A|, |B| < 2^18`, edge values
 //! at pixels in the band stay below 2^37, and depth-plane numerators below 2^43.
 
+use crate::coverage::CoverageMask;
 use crate::fixed_point::{saturate, Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::GRADIENT_LIMIT;
 use crate::lighting::ColorQ8;
@@ -299,6 +300,25 @@ impl Accepted<'_> {
             x1: self.x1 as u16,
             y1: self.y1 as u16,
         }
+    }
+
+    /// The rows of the bounding box that can hold samples of grid `M` inside
+    /// the triangle, `(first, last)`: those whose sample rows, from the
+    /// first to the last, reach into the triangle's height; `None` when no
+    /// row's do. The other rows can hold no fragment of the triangle.
+    #[inline(always)]
+    pub(crate) fn sample_rows<M: CoverageMask>(&self) -> Option<(u16, u16)> {
+        let ys = &self.ys;
+        let top = ys[0].min(ys[1]).min(ys[2]);
+        let bottom = ys[0].max(ys[1]).max(ys[2]);
+        let half = 1 << (SUBPIXEL_BITS - 1);
+        let (reach, below_next) = (M::max_offset_y(), (1 << SUBPIXEL_BITS) - 1);
+        // The first row whose lowest sample row is not above the top, the
+        // last whose highest is not below the bottom (1/16 pixel; samples
+        // at the pixel center plus or minus `reach`).
+        let first = ((top - half - reach + below_next) >> SUBPIXEL_BITS).max(self.y0);
+        let last = ((bottom - half + reach) >> SUBPIXEL_BITS).min(self.y1);
+        (first <= last).then_some((first as u16, last as u16))
     }
 }
 
@@ -591,5 +611,78 @@ impl TriangleSetup {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coverage::{Mask1x1, Mask4x4, Mask8x8};
+
+    /// The first and last rows of `accepted`'s box with a sample of grid `M`
+    /// at a height within the triangle's, found sample row by sample row:
+    /// [`Accepted::sample_rows`] must keep them (it may keep rows whose
+    /// sample rows straddle a triangle thinner than their spacing).
+    fn rows_by_sample<M: CoverageMask>(accepted: &Accepted<'_>) -> Option<(u16, u16)> {
+        let top = accepted.ys.iter().min().copied().unwrap_or(0);
+        let bottom = accepted.ys.iter().max().copied().unwrap_or(0);
+        let holds_sample = |row: &i32| {
+            (0..M::ROWS).any(|j| {
+                let y = (row << SUBPIXEL_BITS) + (1 << (SUBPIXEL_BITS - 1)) + M::offset_y(j);
+                top <= y && y <= bottom
+            })
+        };
+        let first = (accepted.y0..=accepted.y1).find(holds_sample)?;
+        let last = (accepted.y0..=accepted.y1).rev().find(holds_sample)?;
+        Some((first as u16, last as u16))
+    }
+
+    fn check<M: CoverageMask>(next: &mut impl FnMut() -> u64) {
+        let mut narrower = 0u32;
+        for _ in 0..20_000 {
+            // Small triangles near the screen's edges and around sample rows:
+            // heights of a few sixteenths as often as of a few pixels.
+            let corner =
+                |next: &mut dyn FnMut() -> u64| (next() % 960) as i32 - (6 << SUBPIXEL_BITS);
+            let (x, y) = (corner(next), corner(next));
+            let spread = if next() & 1 == 0 { 6 } else { 64 };
+            let mut offset = || (next() % (2 * spread + 1)) as i32 - spread as i32;
+            let v = [
+                SetupVertex { x, y, z: 0 },
+                SetupVertex {
+                    x: x + offset(),
+                    y: y + offset(),
+                    z: 0,
+                },
+                SetupVertex {
+                    x: x + offset(),
+                    y: y + offset(),
+                    z: 0,
+                },
+            ];
+            let Ok(accepted) = TriangleSetup::accept(&v, false, 48, 40) else {
+                continue;
+            };
+            let what = || format!("{} grid, corners {:?}", M::NAME, v.map(|p| (p.x, p.y)));
+            let rows = accepted.sample_rows::<M>();
+            if let Some((first, last)) = rows_by_sample::<M>(&accepted) {
+                let (kept_first, kept_last) = rows.unwrap_or_else(|| panic!("{}", what()));
+                assert!(kept_first <= first && last <= kept_last, "{}", what());
+            }
+            let rows = rows.map_or(0, |(first, last)| last - first + 1);
+            let box_rows = (accepted.y1 - accepted.y0 + 1) as u16;
+            assert!(rows <= box_rows, "{}", what());
+            narrower += (rows < box_rows) as u32;
+        }
+        // Often an end of the box lies beyond the sample rows.
+        assert!(narrower > 500, "{}: {narrower} boxes narrowed", M::NAME);
+    }
+
+    #[test]
+    fn sample_rows_are_the_rows_holding_a_sample_within_the_triangles_height() {
+        let mut next = crate::test_rng::xorshift(0x5851_f42d_4c95_7f2d);
+        check::<Mask1x1>(&mut next);
+        check::<Mask4x4>(&mut next);
+        check::<Mask8x8>(&mut next);
     }
 }
