@@ -642,8 +642,9 @@ mod tests {
         for _ in 0..20_000 {
             // Small triangles near the screen's edges and around sample rows:
             // heights of a few sixteenths as often as of a few pixels.
-            let corner =
-                |next: &mut dyn FnMut() -> u64| (next() % 960) as i32 - (6 << SUBPIXEL_BITS);
+            let corner = |next: &mut dyn FnMut() -> u64| {
+                (next() % (60 << SUBPIXEL_BITS)) as i32 - (6 << SUBPIXEL_BITS)
+            };
             let (x, y) = (corner(next), corner(next));
             let spread = if next() & 1 == 0 { 6 } else { 64 };
             let mut offset = || (next() % (2 * spread + 1)) as i32 - spread as i32;
@@ -679,7 +680,7 @@ mod tests {
     }
 
     #[test]
-    fn sample_rows_are_the_rows_holding_a_sample_within_the_triangles_height() {
+    fn sample_rows_keep_every_row_with_a_sample_in_the_triangles_height() {
         let mut next = crate::test_rng::xorshift(0x5851_f42d_4c95_7f2d);
         check::<Mask1x1>(&mut next);
         check::<Mask4x4>(&mut next);
