@@ -180,7 +180,7 @@ pub fn rasterize<M, B, F>(
     B: BandBuffer<M>,
     F: FnOnce() -> ColorPlanes,
 {
-    if let Some(rows) = RowRange::in_band(&setup.screen_box(), band_y0, band_rows) {
+    if let Some(rows) = RowRange::of_samples::<M>(setup, band_y0, band_rows) {
         rasterize_rows(setup, rows, false, buffer, colors)
     }
 }
@@ -237,7 +237,7 @@ pub fn hidden_in_band<M: CoverageMask, B: BandBuffer<M>>(
     buffer: &mut B,
 ) -> bool {
     let depth = (&setup.depth, setup.dzdx, setup.dzdy);
-    let Some(rows) = RowRange::in_band(&setup.screen_box(), band_y0, band_rows) else {
+    let Some(rows) = RowRange::of_samples::<M>(setup, band_y0, band_rows) else {
         return false;
     };
     match band_test_of_box(setup.screen_box(), depth, rows, buffer) {
@@ -433,14 +433,16 @@ pub(crate) struct RowRange {
 }
 
 impl RowRange {
-    /// The rows of `screen_box` within the band of `band_rows` rows from
-    /// image row `band_y0`; `None` when the box has no pixel there.
+    /// The rows of `setup` that can hold samples of grid `M`
+    /// ([`TriangleSetup::sample_rows`]) within the band of `band_rows` rows
+    /// from image row `band_y0`; `None` when none is there.
     #[inline(always)]
-    pub(crate) fn in_band(screen_box: &ScreenBox, band_y0: u16, band_rows: u16) -> Option<Self> {
-        if screen_box.x0 > screen_box.x1 {
-            return None;
-        }
-        Self::of_rows((screen_box.y0, screen_box.y1), band_y0, band_rows)
+    pub(crate) fn of_samples<M: CoverageMask>(
+        setup: &TriangleSetup,
+        band_y0: u16,
+        band_rows: u16,
+    ) -> Option<Self> {
+        Self::of_rows(setup.sample_rows::<M>()?, band_y0, band_rows)
     }
 
     /// Image rows `first..=last` within the band of `band_rows` rows from

@@ -163,7 +163,6 @@ impl TriangleSetup {
             x0: self.x0,
             y0: self.y0,
             x1: self.x1,
-            y1: self.y1,
         }
     }
 }
@@ -291,39 +290,47 @@ impl Accepted<'_> {
         !self.swapped()
     }
 
-    /// The bounding box on screen: first and last column, first and last row.
+    /// The bounding box on screen: first and last column, first row.
     #[inline]
     pub(crate) fn screen_box(&self) -> ScreenBox {
         ScreenBox {
             x0: self.x0 as u16,
             y0: self.y0 as u16,
             x1: self.x1 as u16,
-            y1: self.y1 as u16,
         }
     }
 
     /// The rows of the bounding box that can hold samples of grid `M` inside
-    /// the triangle, `(first, last)`: those whose sample rows, from the
-    /// first to the last, reach into the triangle's height; `None` when no
-    /// row's do. The other rows can hold no fragment of the triangle.
+    /// the triangle ([`sample_rows`]).
     #[inline(always)]
     pub(crate) fn sample_rows<M: CoverageMask>(&self) -> Option<(u16, u16)> {
-        let ys = &self.ys;
-        let top = ys[0].min(ys[1]).min(ys[2]);
-        let bottom = ys[0].max(ys[1]).max(ys[2]);
-        let half = 1 << (SUBPIXEL_BITS - 1);
-        let (reach, below_next) = (M::max_offset_y(), (1 << SUBPIXEL_BITS) - 1);
-        // The first row whose lowest sample row is not above the top, the
-        // last whose highest is not below the bottom (1/16 pixel; samples
-        // at the pixel center plus or minus `reach`).
-        let first = ((top - half - reach + below_next) >> SUBPIXEL_BITS).max(self.y0);
-        let last = ((bottom - half + reach) >> SUBPIXEL_BITS).min(self.y1);
-        (first <= last).then_some((first as u16, last as u16))
+        sample_rows::<M>(&self.ys, (self.y0, self.y1))
     }
 }
 
-/// A triangle's bounding box on screen, in pixels (last column and row
-/// included).
+/// The rows of a triangle's bounding box (`first..=last`, image rows) that
+/// can hold samples of grid `M` inside it, given its corners' heights `ys`
+/// (1/16 pixel): those whose sample rows, from the first to the last, reach
+/// into the triangle's height; `None` when no row's do. The other rows can
+/// hold no fragment of the triangle.
+#[inline(always)]
+fn sample_rows<M: CoverageMask>(ys: &[i32; 3], (y0, y1): (i32, i32)) -> Option<(u16, u16)> {
+    let top = ys[0].min(ys[1]).min(ys[2]);
+    let bottom = ys[0].max(ys[1]).max(ys[2]);
+    let half = 1 << (SUBPIXEL_BITS - 1);
+    let (reach, below_next) = (M::max_offset_y(), (1 << SUBPIXEL_BITS) - 1);
+    // The first row whose lowest sample row is not above the top, the last
+    // whose highest is not below the bottom (samples at the pixel center
+    // plus or minus `reach`).
+    let first = ((top - half - reach + below_next) >> SUBPIXEL_BITS).max(y0);
+    let last = ((bottom - half + reach) >> SUBPIXEL_BITS).min(y1);
+    (first <= last).then_some((first as u16, last as u16))
+}
+
+/// A triangle's bounding box on screen, in pixels: its columns (last one
+/// included) and its first row, where the depth plane is anchored. Its rows
+/// are asked through `sample_rows`, which keeps only those that can hold
+/// samples.
 #[derive(Clone, Copy)]
 pub(crate) struct ScreenBox {
     /// First column.
@@ -332,8 +339,6 @@ pub(crate) struct ScreenBox {
     pub(crate) y0: u16,
     /// Last column.
     pub(crate) x1: u16,
-    /// Last row.
-    pub(crate) y1: u16,
 }
 
 /// Whether a triangle with window-space area `area2` (twice the signed area, from
@@ -523,6 +528,13 @@ impl TriangleSetup {
                 area2: depth.area2,
             },
         }
+    }
+
+    /// The rows of the bounding box that can hold samples of grid `M` inside
+    /// the triangle ([`sample_rows`]).
+    #[inline(always)]
+    pub(crate) fn sample_rows<M: CoverageMask>(&self) -> Option<(u16, u16)> {
+        sample_rows::<M>(&self.corners.ys, (self.y0 as i32, self.y1 as i32))
     }
 
     /// Whether the corners lie within 1,024 pixels of each other in x and

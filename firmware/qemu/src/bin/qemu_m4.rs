@@ -186,8 +186,9 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
         self.ticks.setup += t1 - t0;
         let setup = setup?;
         // The whole-triangle test counts as setup, hidden or not; as in
-        // `draw_in_band`, only for faces turned away.
-        let hidden = setup.faces_away()
+        // `draw_in_band`, for faces turned away and where the frame driver
+        // asks.
+        let hidden = (setup.faces_away() || params.test_whole_band)
             && mcu_abuffer::raster::hidden_in_band(&setup, band_y0, band_rows, self);
         let t2 = ticks();
         self.ticks.setup += t2 - t1;
