@@ -551,41 +551,43 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
 
     /// The color of pixel `p`, which holds `n >= 1` fragments: each
     /// fragment's color weighted by its samples, the uncovered samples
-    /// `background`, rounded to nearest.
+    /// `background`, rounded to nearest. A pixel whose one fragment covers
+    /// every sample (an interior pixel) is its color and is taken before
+    /// the call ([`Self::resolve_row`]).
     #[inline(never)]
     fn resolve_pixel(&self, p: usize, n: usize, background: Rgb888) -> Rgb888 {
         let n_main = self.config.main_slots as usize;
-        let first = &self.main[p * n_main];
-        if n == 1 && first.mask() == M::FULL {
-            // An interior pixel: one fragment covers every sample.
-            let [r, g, b] = first.rgb();
-            return Rgb888::new(r, g, b);
-        }
-        let (mut r, mut g, mut b, mut covered) = (0u32, 0u32, 0u32, 0u32);
+        // Red and blue share a word (blue from bit 16): a channel's sum is
+        // at most 255 times the samples, below 2^16 on every grid.
+        const _: () = assert!(255 * 64 + 32 < 1 << 16);
+        let (mut red_blue, mut green, mut covered) = (0u32, 0u32, 0u32);
         let mut add = |f: &PackedFragment<M>| {
             let k = f.mask().count();
             let [fr, fg, fb] = f.rgb();
-            r += fr as u32 * k;
-            g += fg as u32 * k;
-            b += fb as u32 * k;
+            red_blue += (fr as u32 | (fb as u32) << 16) * k;
+            green += fg as u32 * k;
             covered += k;
         };
-        // The pixel's main slots, then the pool slots its addresses name.
-        for f in &self.main[p * n_main..p * n_main + n.min(n_main)] {
-            add(f);
+        // The pixel's main slots, then the pool slots its addresses name
+        // (index loops: the slices' iterators cost more set-up than the
+        // one to three entries a pixel holds).
+        let in_main = n.min(n_main);
+        let main = p * n_main;
+        for i in 0..in_main {
+            add(&self.main[main + i]);
         }
-        if n > n_main {
-            let first = p * self.config.extra_addresses as usize;
-            for a in &self.addresses[first..first + (n - n_main)] {
-                add(self.pool.get(a.index()));
-            }
+        let addresses = p * self.config.extra_addresses as usize;
+        for i in 0..n - in_main {
+            add(self.pool.get(self.addresses[addresses + i].index()));
         }
         let rest = M::SAMPLES - covered.min(M::SAMPLES);
         let (half, shift) = (M::SAMPLES / 2, M::SAMPLES_LOG2);
+        let background_red_blue = background.r() as u32 | (background.b() as u32) << 16;
+        let red_blue = (red_blue + background_red_blue * rest + (half | half << 16)) >> shift;
         Rgb888::new(
-            ((r + background.r() as u32 * rest + half) >> shift) as u8,
-            ((g + background.g() as u32 * rest + half) >> shift) as u8,
-            ((b + background.b() as u32 * rest + half) >> shift) as u8,
+            red_blue as u8,
+            ((green + background.g() as u32 * rest + half) >> shift) as u8,
+            (red_blue >> 16) as u8,
         )
     }
 
@@ -870,12 +872,18 @@ impl<M: CoverageMask, A: PoolAddress> BandBuffer<M> for FragmentBuffer<'_, M, A>
         // pixels are resolved out of line.
         let counts = &self.counts[start..start + shown];
         let out = &mut out[..shown];
+        let n_main = self.config.main_slots as usize;
         let each = |s: &Self, x: usize, counts: &[u8], out: &mut [Rgb888]| {
             for (k, (px, &n)) in out.iter_mut().zip(counts).enumerate() {
+                let p = start + x + k;
                 *px = if n == 0 {
                     background
+                } else if n == 1 && s.main[p * n_main].mask() == M::FULL {
+                    // An interior pixel: one fragment covers every sample.
+                    let [r, g, b] = s.main[p * n_main].rgb();
+                    Rgb888::new(r, g, b)
                 } else {
-                    s.resolve_pixel(start + x + k, n as usize, background)
+                    s.resolve_pixel(p, n as usize, background)
                 };
             }
         };
