@@ -559,7 +559,7 @@ impl<'a, M: CoverageMask, A: PoolAddress> FragmentBuffer<'a, M, A> {
         let n_main = self.config.main_slots as usize;
         // Red and blue share a word (blue from bit 16): a channel's sum is
         // at most 255 times the samples, below 2^16 on every grid.
-        const _: () = assert!(255 * 64 + 32 < 1 << 16);
+        const { assert!(255 * M::SAMPLES + M::SAMPLES / 2 < 1 << 16) };
         let (mut red_blue, mut green, mut covered) = (0u32, 0u32, 0u32);
         let mut add = |f: &PackedFragment<M>| {
             let k = f.mask().count();
