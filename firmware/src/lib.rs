@@ -152,7 +152,10 @@ pub mod zbuffer_midpoint;
 
 pub use band_buffer::BandBuffer;
 pub use coverage::{CoverageMask, Mask1x1, Mask4x4, Mask8x4, Mask8x8};
-pub use fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
+pub use fragment_buffer::{
+    BufferConfig, BufferShape, BufferStorage, ConstShape, FragmentBuffer, OverflowPolicy,
+    ShapeOfConfig,
+};
 pub use renderer::{render_frame, FrameOptions, FrameWorkspace, RenderError, Renderer};
 pub use scene::{Camera, Light, Mesh, Scene, SceneObject, Shading, Transform};
 pub use sink::{DrawTargetSink, ImageSink, LineSink};

@@ -45,7 +45,9 @@
 use crate::color_carry::CarriedColors;
 use crate::coverage::CoverageMask;
 use crate::fragment::PackedFragment;
-use crate::fragment_buffer::{BufferConfig, BufferStorage, FragmentBuffer, OverflowPolicy};
+use crate::fragment_buffer::{
+    BufferConfig, BufferStorage, ConstShape, FragmentBuffer, OverflowPolicy,
+};
 use crate::renderer::{FrameWorkspace, ObjectFrame, ScreenVertex};
 use crate::zbuffer::ZBuffer;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
@@ -134,8 +136,13 @@ impl<
         }
     }
 
-    /// A fragment buffer over this memory, handling overflow by `policy`.
-    pub fn buffer(&mut self, policy: OverflowPolicy) -> FragmentBuffer<'_, M, PoolIndex> {
+    /// A fragment buffer over this memory, handling overflow by `policy`;
+    /// its width and slots per pixel are constants of its type
+    /// ([`ConstShape`]).
+    pub fn buffer(
+        &mut self,
+        policy: OverflowPolicy,
+    ) -> FragmentBuffer<'_, M, PoolIndex, ConstShape<WIDTH, MAIN, EXTRA>> {
         let storage = BufferStorage {
             counts: self.counts.as_flattened_mut(),
             main: self.main.as_flattened_mut().as_flattened_mut(),

@@ -11,7 +11,8 @@ use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x8};
 use mcu_abuffer::fixed_point::{Coord, DEPTH_MAX, GUARD_BAND_PX, UNIT_ONE};
 use mcu_abuffer::fragment::{Fragment, PackedFragment, GRADIENT_LIMIT};
 use mcu_abuffer::fragment_buffer::{
-    BufferConfig, BufferError, BufferStorage, FragmentBuffer, OverflowPolicy,
+    BufferConfig, BufferError, BufferShape, BufferStorage, ConstShape, FragmentBuffer,
+    OverflowPolicy, ShapeOfConfig,
 };
 use mcu_abuffer::geometry::{outcode, project, ObjectTransform, ViewBasis};
 use mcu_abuffer::lighting::{ColorQ8, LightSetup};
@@ -526,12 +527,12 @@ fn buffer_and_frame_limits() {
         extra_addresses: extra,
         policy: OverflowPolicy::MergeFarthest,
     };
-    let build = |c: BufferConfig, pool: usize| {
+    fn build_shaped<S: BufferShape>(c: BufferConfig, pool: usize) -> Option<BufferError> {
         let mut counts = vec![0u8; c.pixels()];
         let mut main = vec![PackedFragment::<Mask4x4>::EMPTY; c.main_slot_count()];
         let mut addresses = vec![0u16; c.address_count()];
         let mut slots = vec![PackedFragment::<Mask4x4>::EMPTY; pool];
-        FragmentBuffer::new(
+        FragmentBuffer::<Mask4x4, u16, S>::new(
             c,
             BufferStorage {
                 counts: &mut counts,
@@ -541,7 +542,8 @@ fn buffer_and_frame_limits() {
             },
         )
         .err()
-    };
+    }
+    let build = build_shaped::<ShapeOfConfig>;
     assert_eq!(build(config(255, 0), 0), None);
     assert_eq!(build(config(200, 55), 0), None);
     assert_eq!(
@@ -549,6 +551,20 @@ fn buffer_and_frame_limits() {
         Some(BufferError::PixelCapacityTooLarge)
     );
     assert_eq!(build(config(1, 1), u16::MAX as usize), None);
+    // A buffer type with constant sizes takes only a configuration of them.
+    assert_eq!(build_shaped::<ConstShape<1, 1, 1>>(config(1, 1), 4), None);
+    assert_eq!(
+        build_shaped::<ConstShape<1, 1, 0>>(config(1, 1), 4),
+        Some(BufferError::ShapeMismatch)
+    );
+    assert_eq!(
+        build_shaped::<ConstShape<2, 1, 1>>(config(1, 1), 4),
+        Some(BufferError::ShapeMismatch)
+    );
+    assert_eq!(
+        build_shaped::<ConstShape<1, 2, 1>>(config(1, 1), 4),
+        Some(BufferError::ShapeMismatch)
+    );
     assert_eq!(
         build(config(1, 1), u16::MAX as usize + 1),
         Some(BufferError::PoolTooLarge {
