@@ -125,9 +125,9 @@ pub struct BufferStorage<'a, M: CoverageMask, A: PoolAddress> {
 /// [`ShapeOfConfig`] reads every size from the configuration (any shape, one
 /// compiled copy). [`ConstShape`] fixes them, as the static memory of a
 /// firmware does ([`crate::memory::FragmentMemory::buffer`]): the compiler
-/// then folds the pixel index and the slot arithmetic, which takes about
-/// 2.9 % off a teapot frame on the Cortex-M4. The image is the same bits
-/// either way.
+/// then folds the pixel index and the slot arithmetic: 3.4 % fewer
+/// instructions in a teapot frame on the Cortex-M4 (`docs/m4-benchmark.md`).
+/// The image and the statistics are the same bits either way.
 pub trait BufferShape {
     /// Pixels per row (`W`), when fixed.
     const WIDTH: Option<usize>;

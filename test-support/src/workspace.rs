@@ -7,7 +7,8 @@ use mcu_abuffer::color_carry::CarriedColors;
 use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::fragment::PackedFragment;
 use mcu_abuffer::fragment_buffer::{
-    BufferConfig, BufferError, BufferStorage, FragmentBuffer, OverflowPolicy,
+    BufferConfig, BufferError, BufferShape, BufferStorage, FragmentBuffer, OverflowPolicy,
+    ShapeOfConfig,
 };
 use mcu_abuffer::memory::defaults;
 use mcu_abuffer::pool::PoolAddress;
@@ -121,6 +122,14 @@ impl<M: CoverageMask, A: PoolAddress> FragmentStorage<M, A> {
 
     /// A fragment buffer over this storage, or why the library refuses it.
     pub fn try_buffer(&mut self) -> Result<FragmentBuffer<'_, M, A>, BufferError> {
+        self.try_shaped_buffer::<ShapeOfConfig>()
+    }
+
+    /// A fragment buffer of shape `S` over this storage, or why the library
+    /// refuses it (a shape whose constants differ from the configuration).
+    pub fn try_shaped_buffer<S: BufferShape>(
+        &mut self,
+    ) -> Result<FragmentBuffer<'_, M, A, S>, BufferError> {
         FragmentBuffer::new(
             self.config,
             BufferStorage {

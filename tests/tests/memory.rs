@@ -10,12 +10,16 @@
 //!
 //! And with room for every sample (`N_main + N_extra >= SAMPLES`, a pool for every
 //! address) the shared buffer draws exactly the unlimited image, without merging.
+//!
+//! A buffer whose width and slots per pixel are constants of its type
+//! (`ConstShape`, as the firmware's static memory makes it) draws the same bits
+//! and counts the same statistics as one that reads them from its configuration.
 
 use abuffer_test_support::{first_difference, FragmentStorage, OwnedScene};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fragment::Fragment;
-use mcu_abuffer::fragment_buffer::{BufferConfig, FragmentBuffer, OverflowPolicy};
+use mcu_abuffer::fragment_buffer::{BufferConfig, ConstShape, FragmentBuffer, OverflowPolicy};
 use system_tests::{deep_scene, random_scene, render, Rng, SceneParams};
 
 const WIDTH: u16 = 48;
@@ -269,4 +273,63 @@ fn shared_with_room_for_every_sample_equals_unlimited_8x4() {
 #[test]
 fn shared_with_room_for_every_sample_equals_unlimited_8x8() {
     room_for_every_sample::<Mask8x8>(40, 188);
+}
+
+/// Renders `scenes` dense scenes in every band height and overflow policy with
+/// `MAIN` main slots, `EXTRA` pool addresses and `pool` pool slots per band,
+/// once with the sizes read from the configuration and once with them as
+/// constants of the buffer's type: the images and statistics must be equal.
+fn const_shape_draws_the_same<M: CoverageMask, const MAIN: usize, const EXTRA: usize>(
+    pool: usize,
+    scenes: u64,
+    seed: u64,
+) {
+    const W: usize = WIDTH as usize;
+    for i in 0..scenes {
+        let scene = dense_scene(seed * 1000 + i);
+        let objects = scene.objects();
+        let lib_scene = scene.scene(&objects);
+        let options = scene.options();
+        for &band in &BANDS {
+            for policy in POLICIES.into_iter().chain([OverflowPolicy::SplitBands]) {
+                let config = BufferConfig {
+                    width: WIDTH,
+                    band_height: band,
+                    main_slots: MAIN as u8,
+                    extra_addresses: EXTRA as u8,
+                    policy,
+                };
+                let mut read = FragmentStorage::<M>::new(config, pool);
+                let (want, want_stats) =
+                    render(&lib_scene, &options, &mut read.buffer(), |_, _, _| {});
+                let mut fixed = FragmentStorage::<M>::new(config, pool);
+                let mut buffer = fixed
+                    .try_shaped_buffer::<ConstShape<W, MAIN, EXTRA>>()
+                    .expect("the shape's constants are the configuration's");
+                let (got, got_stats) = render(&lib_scene, &options, &mut buffer, |_, _, _| {});
+                let what = format!(
+                    "{} scene seed {}, band {band}, {policy:?}, main {MAIN} extra {EXTRA} pool {pool}",
+                    M::NAME,
+                    seed * 1000 + i
+                );
+                if let Some((x, y, got, want)) = first_difference(WIDTH, &got, &want) {
+                    panic!("{what}: pixel ({x}, {y}) is {got:?} with constant sizes, {want:?} without");
+                }
+                assert_eq!(got_stats, want_stats, "{what}: statistics differ");
+            }
+        }
+    }
+}
+
+#[test]
+fn const_shape_draws_the_same_4x4() {
+    const_shape_draws_the_same::<Mask4x4, 1, 2>(60, 12, 401);
+    const_shape_draws_the_same::<Mask4x4, 1, 0>(0, 6, 402);
+    const_shape_draws_the_same::<Mask4x4, 2, 3>(200, 6, 403);
+}
+
+#[test]
+fn const_shape_draws_the_same_8x8() {
+    const_shape_draws_the_same::<Mask8x8, 1, 2>(60, 8, 404);
+    const_shape_draws_the_same::<Mask8x8, 3, 1>(16, 6, 405);
 }
