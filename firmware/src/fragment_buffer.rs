@@ -567,14 +567,12 @@ impl<'a, M: CoverageMask, A: PoolAddress, S: BufferShape> FragmentBuffer<'a, M, 
                 self.pool_ran_out = true;
                 return false;
             };
-            self.addresses[p * self.extra_addresses() + (n - n_main)] =
-                A::from_index(slot);
+            self.addresses[p * self.extra_addresses() + (n - n_main)] = A::from_index(slot);
         }
         self.shift_later(p, k, n);
         let packed = PackedFragment::pack(f);
         self.write(p, k, packed);
-        self.strips
-            .stored_fragment(p % self.width_px(), f);
+        self.strips.stored_fragment(p % self.width_px(), f);
         true
     }
 
@@ -756,8 +754,7 @@ impl<'a, M: CoverageMask, A: PoolAddress, S: BufferShape> FragmentBuffer<'a, M, 
             let Some(slot) = self.pool.allocate() else {
                 return false;
             };
-            self.addresses[p * self.extra_addresses() + (N - n_main)] =
-                A::from_index(slot);
+            self.addresses[p * self.extra_addresses() + (N - n_main)] = A::from_index(slot);
         }
         let packed = PackedFragment::pack(fragment);
         // After every stored fragment up to the first that lies farther (as

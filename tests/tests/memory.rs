@@ -313,7 +313,9 @@ fn const_shape_draws_the_same<M: CoverageMask, const MAIN: usize, const EXTRA: u
                     seed * 1000 + i
                 );
                 if let Some((x, y, got, want)) = first_difference(WIDTH, &got, &want) {
-                    panic!("{what}: pixel ({x}, {y}) is {got:?} with constant sizes, {want:?} without");
+                    panic!(
+                        "{what}: pixel ({x}, {y}) is {got:?} with constant sizes, {want:?} without"
+                    );
                 }
                 assert_eq!(got_stats, want_stats, "{what}: statistics differ");
             }
