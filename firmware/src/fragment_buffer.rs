@@ -118,16 +118,18 @@ pub struct BufferStorage<'a, M: CoverageMask, A: PoolAddress> {
     pub pool: &'a mut [PackedFragment<M>],
 }
 
-/// The row width and the fragment places per pixel of a [`FragmentBuffer`],
-/// as its pixel loops see them: each is either a constant of the type or
-/// read from the buffer's [`BufferConfig`] at run time.
+/// The row width and the slots per pixel of a [`FragmentBuffer`], as its
+/// pixel loops see them: each is either a constant of the type or read
+/// from the buffer's [`BufferConfig`] at run time.
 ///
 /// [`ShapeOfConfig`] reads every size from the configuration (any shape, one
 /// compiled copy). [`ConstShape`] fixes them, as the static memory of a
-/// firmware does ([`crate::memory::FragmentMemory::buffer`]): the compiler
-/// then folds the pixel index and the slot arithmetic: 3.4 % fewer
-/// instructions in a teapot frame on the Cortex-M4 (`docs/m4-benchmark.md`).
-/// The image and the statistics are the same bits either way.
+/// firmware does ([`crate::memory::FragmentMemory::buffer`]), and the
+/// compiler folds the pixel index and the slot arithmetic (3.4 % fewer
+/// instructions in a teapot frame on the Cortex-M4, `docs/m4-benchmark.md`).
+/// The image and the statistics are the same bits either way;
+/// [`FragmentBuffer::new`] refuses a configuration whose sizes differ from
+/// the shape's constants.
 pub trait BufferShape {
     /// Pixels per row (`W`), when fixed.
     const WIDTH: Option<usize>;
