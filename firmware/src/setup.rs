@@ -19,7 +19,7 @@ use crate::fixed_point::{saturate, Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::GRADIENT_LIMIT;
 use crate::lighting::ColorQ8;
 use crate::shading::{
-    fit_quadratic_over, light_midpoints, normal_planes, samples_are_planar, walks_in_i32,
+    clamp_q8, fit_quadratic_over, light_midpoints, normal_planes, samples_are_planar, walks_in_i32,
     PhongPlanes, QuadraticPolynomial, QuadraticSamples, TriangleLighting,
 };
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -590,7 +590,10 @@ impl TriangleSetup {
             ColorSource::Constant(c) => ColorPlanes::Constant(c),
             ColorSource::Linear(colors) => ColorPlanes::Linear(linear(&ordered_colors(colors))),
             ColorSource::Quadratic(lighting, colors) => {
-                let colors = ordered_colors(colors);
+                // The fit takes samples within [0, 255] (Q8): the vertex
+                // colors are clamped here, and the midpoints' lighting and
+                // means stay within that range.
+                let colors = ordered_colors(colors).map(clamp_q8);
                 let samples = QuadraticSamples {
                     vertices: colors,
                     midpoints: light_midpoints(&ordered(lighting), &colors),

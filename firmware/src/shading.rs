@@ -145,6 +145,33 @@ pub struct QuadraticSamples {
     pub midpoints: [ColorQ8; 3],
 }
 
+impl QuadraticSamples {
+    /// The samples clamped to `[0, 255]` (Q8).
+    pub fn clamped(&self) -> Self {
+        let clamp = |c: &[ColorQ8; 3]| c.map(clamp_q8);
+        Self {
+            vertices: clamp(&self.vertices),
+            midpoints: clamp(&self.midpoints),
+        }
+    }
+
+    /// Whether every sample is within `[0, 255]` (Q8), as [`ColorQ8`]
+    /// promises.
+    pub fn in_range(&self) -> bool {
+        self.vertices
+            .iter()
+            .chain(&self.midpoints)
+            .flatten()
+            .all(|&c| (0..=SAMPLE_MAX as i32).contains(&c))
+    }
+}
+
+/// A color clamped to `[0, 255]` (Q8), the range of [`ColorQ8`].
+#[inline]
+pub fn clamp_q8(c: ColorQ8) -> ColorQ8 {
+    c.map(|v| v.clamp(0, SAMPLE_MAX as i32))
+}
+
 /// One channel over the pixel lattice of a bounding box:
 /// `Q(i, j) = a i² + b j² + c i j + d i + e j + f`, in units of
 /// `2^-QUADRATIC_FRACTION_BITS` of an 8-bit step, `(i, j)` the pixel offset from
@@ -233,13 +260,16 @@ pub fn fit_quadratic(
     size: (i64, i64),
     samples: &QuadraticSamples,
 ) -> Option<[QuadraticPolynomial; 3]> {
-    fit_quadratic_over(xs, ys, origin, size, samples, None)
+    fit_quadratic_over(xs, ys, origin, size, &samples.clamped(), None)
 }
 
 /// [`fit_quadratic`], with the reciprocal of twice the triangle's area when
 /// the caller has it already: `Reciprocal::new` of twice the area of the
 /// corners before they were clamped to the guard band (setup's), used
 /// where no corner lies on the guard band's edge (where none was clamped).
+/// The samples must be within `[0, 255]` (Q8) already
+/// ([`QuadraticSamples::in_range`]): color setup clamps the vertex colors
+/// it is given, and the midpoints' lighting and means stay within them.
 #[inline(always)]
 pub(crate) fn fit_quadratic_over(
     xs: &[i64; 3],
@@ -249,6 +279,7 @@ pub(crate) fn fit_quadratic_over(
     samples: &QuadraticSamples,
     area2: Option<Reciprocal>,
 ) -> Option<[QuadraticPolynomial; 3]> {
+    debug_assert!(samples.in_range(), "samples out of range: {samples:?}");
     let basis = FitBasis::new(xs, ys, origin, size, area2)?;
     Some(if basis.monomials_fit_i32() {
         fit_channels::<i32>(&basis, samples)
@@ -493,7 +524,7 @@ fn fit_channel<T: Monomial>(
     }
 }
 
-/// One channel's weights of the fit, from its six samples (Q8, clamped to
+/// One channel's weights of the fit, from its six samples (Q8, within
 /// `[0, 255]`): `|α|, |β|, |δ|, |ε| < 2^18`, `|γ| < 2^19`.
 struct ChannelWeights {
     alpha: i64,
@@ -507,7 +538,7 @@ struct ChannelWeights {
 impl ChannelWeights {
     #[inline(always)]
     fn of(samples: &QuadraticSamples, ch: usize) -> Self {
-        let sample = |v: &ColorQ8| (v[ch] as i64).clamp(0, SAMPLE_MAX);
+        let sample = |v: &ColorQ8| v[ch] as i64;
         let [v0, v1, v2] = &samples.vertices;
         let [v01, v12, v20] = &samples.midpoints;
         let (c0, c1, c2) = (sample(v0), sample(v1), sample(v2));
@@ -1283,6 +1314,34 @@ mod tests {
         assert!(fitted > 19_000, "only {fitted} triangles fitted");
         // The stated bound: within 1/16 of an 8-bit step (analysis: below 0.06).
         assert!(worst < 1.0 / 16.0, "worst deviation {worst} steps");
+    }
+
+    #[test]
+    fn samples_out_of_range_are_clamped_before_the_fit() {
+        // The public fit clamps its samples; the fit itself takes them in
+        // range (color setup clamps the vertex colors it is given).
+        let mut rng = Rng(0x5a3c_0ff5_e7c1_a3b9);
+        let mut outside = 0;
+        for _ in 0..2_000 {
+            let (xs, ys) = random_triangle(&mut rng, 128, 128);
+            let Some((origin, size)) = bounding_box(&xs, &ys, 128, 128) else {
+                continue;
+            };
+            let mut wide =
+                || core::array::from_fn(|_| rng.range(0, 3 * 256 * 256) as i32 - 256 * 256);
+            let samples = QuadraticSamples {
+                vertices: [wide(), wide(), wide()],
+                midpoints: [wide(), wide(), wide()],
+            };
+            outside += !samples.in_range() as u32;
+            let clamped = samples.clamped();
+            assert!(clamped.in_range());
+            assert_eq!(
+                fit_quadratic(&xs, &ys, origin, size, &samples),
+                fit_quadratic_over(&xs, &ys, origin, size, &clamped, None)
+            );
+        }
+        assert!(outside > 1_000, "only {outside} sample sets out of range");
     }
 
     #[test]
