@@ -12,10 +12,19 @@ use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 
 /// A color with 8 fraction bits per channel (value x 256), as vertex colors are kept.
 ///
-/// Range: `0 ..= 255 * 256` per channel ([`LightSetup::shade`] clamps, and
+/// Range: `0 ..=` [`COLOR_Q8_MAX`] per channel ([`LightSetup::shade`] clamps, and
 /// clipping interpolates between two such colors), so differences of two fit 17
 /// bits and color planes stay within the bounds given at [`crate::setup::Plane`].
 pub type ColorQ8 = [i32; 3];
+
+/// The largest channel of a [`ColorQ8`]: 255 in Q8.
+pub const COLOR_Q8_MAX: i32 = 255 << 8;
+
+/// A color clamped to the range of [`ColorQ8`], `0 ..= 255` (Q8) per channel.
+#[inline]
+pub fn clamp_q8(c: ColorQ8) -> ColorQ8 {
+    c.map(|v| v.clamp(0, COLOR_Q8_MAX))
+}
 
 /// A color in [`ColorQ8`] form.
 #[inline]
@@ -142,7 +151,7 @@ impl LightSetup {
         // base (8 bit) * Q14 -> Q14, then to Q8: shift by 6.
         let highlight = (255 * spec) >> (UNIT_BITS - 8);
         let channel =
-            |c: u8| (((c as i32 * diffuse) >> (UNIT_BITS - 8)) + highlight).clamp(0, 255 << 8);
+            |c: u8| (((c as i32 * diffuse) >> (UNIT_BITS - 8)) + highlight).clamp(0, COLOR_Q8_MAX);
         [channel(base.r()), channel(base.g()), channel(base.b())]
     }
 }

@@ -17,9 +17,9 @@
 use crate::coverage::CoverageMask;
 use crate::fixed_point::{saturate, Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::GRADIENT_LIMIT;
-use crate::lighting::ColorQ8;
+use crate::lighting::{clamp_q8, ColorQ8};
 use crate::shading::{
-    clamp_q8, fit_quadratic_over, light_midpoints, normal_planes, samples_are_planar, walks_in_i32,
+    fit_quadratic_over, light_midpoints, normal_planes, samples_are_planar, walks_in_i32,
     PhongPlanes, QuadraticPolynomial, QuadraticSamples, TriangleLighting,
 };
 use embedded_graphics_core::pixelcolor::Rgb888;

@@ -93,7 +93,7 @@
 //! `[0, 255]`.
 
 use crate::fixed_point::{Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS, UNIT_BITS};
-use crate::lighting::{normalize_unit, ColorQ8, LightSetup};
+use crate::lighting::{clamp_q8, normalize_unit, ColorQ8, LightSetup, COLOR_Q8_MAX};
 use crate::setup::{ColorSource, Plane};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -110,9 +110,6 @@ const BARYCENTRIC_LIMIT: i64 = 1 << 30;
 /// Bound on `|s0| + |su| + |sv|` (and `t`) under which the fit's monomials
 /// fit `i32` (2^5 in value).
 const SMALL_BARYCENTRIC_LIMIT: i64 = 1 << 25;
-
-/// The largest sample, 255 in Q8.
-const SAMPLE_MAX: i64 = 255 << 8;
 
 /// Fraction bits of the normal planes of Phong shading (Q2.14 plus 16).
 pub const NORMAL_PLANE_BITS: u32 = UNIT_BITS + 16;
@@ -162,14 +159,8 @@ impl QuadraticSamples {
             .iter()
             .chain(&self.midpoints)
             .flatten()
-            .all(|&c| (0..=SAMPLE_MAX as i32).contains(&c))
+            .all(|&c| (0..=COLOR_Q8_MAX).contains(&c))
     }
-}
-
-/// A color clamped to `[0, 255]` (Q8), the range of [`ColorQ8`].
-#[inline]
-pub fn clamp_q8(c: ColorQ8) -> ColorQ8 {
-    c.map(|v| v.clamp(0, SAMPLE_MAX as i32))
 }
 
 /// One channel over the pixel lattice of a bounding box:
