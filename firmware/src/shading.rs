@@ -1035,23 +1035,35 @@ pub fn walks_in_i32(p: &[QuadraticPolynomial; 3], size: (i64, i64)) -> bool {
     if !is_narrow_box(size) || size.0 < 1 || size.1 < 1 {
         return false;
     }
-    let (w, h) = (size.0 as u64, size.1 as u64);
-    const DROPPED: i64 = (1 << NARROW_QUADRATIC_DROPPED_BITS) - 1;
+    // In 32-bit words: a coefficient's term alone is at least |k| (every
+    // monomial's largest value is at least 1), so the bound fails for any
+    // |k| above 2^39 and every one that passes has its high word within
+    // [-2^7, 2^7) and `k >> 8` within `i32`. The bound itself is then a
+    // sum of 32 x 32-bit products over 2^8 (the dropped bits are zero).
+    const _: () = assert!(NARROW_QUADRATIC_DROPPED_BITS == 8 && NARROW_QUADRATIC_BOX <= 1 << 15);
+    const DROPPED: u32 = (1 << NARROW_QUADRATIC_DROPPED_BITS) - 1;
+    let (w, h) = (size.0 as u32, size.1 as u32);
+    let monomials = [w * w, h * h, w * h, w, h, 1];
     p.iter().all(|p| {
         let ks = p.coefficients();
-        // Each |k| below 2^40 first, so the sum below cannot overflow.
-        let low_bits = ks.iter().fold(0, |or, k| or | k);
-        let high = ks.iter().fold(0, |or, k| or | k.unsigned_abs());
-        if low_bits & DROPPED != 0 || high >= 1 << 40 {
+        let low_bits = ks.iter().fold(0, |or, &k| or | k as u32);
+        // `hi ^ (hi >> 31)` is `hi` or `-hi - 1`: below 2^7 exactly when
+        // the high word is within [-2^7, 2^7).
+        let high = ks.iter().fold(0, |or, &k| {
+            let hi = (k >> 32) as i32;
+            or | (hi ^ (hi >> 31))
+        });
+        if low_bits & DROPPED != 0 || high >= 1 << 7 {
             return false;
         }
-        let monomials = [w * w, h * h, w * h, w, h, 1];
         let bound: u64 = ks
             .iter()
             .zip(monomials)
-            .map(|(k, m)| k.unsigned_abs() * m)
+            .map(|(&k, m)| {
+                ((k >> NARROW_QUADRATIC_DROPPED_BITS) as i32).unsigned_abs() as u64 * m as u64
+            })
             .sum();
-        bound < ((1 << 31) - (1 << 20)) << NARROW_QUADRATIC_DROPPED_BITS
+        bound < (1 << 31) - (1 << 20)
     })
 }
 
@@ -1405,6 +1417,78 @@ mod tests {
         }
         assert!(compared > 15_000, "{compared}");
         assert!(near_bound > 20, "{near_bound}");
+    }
+
+    #[test]
+    fn walks_in_i32_in_words_equals_the_64_bit_bound() {
+        // The test as first written: every coefficient and product in 64 bits.
+        fn in_64_bits(p: &[QuadraticPolynomial; 3], size: (i64, i64)) -> bool {
+            if !is_narrow_box(size) || size.0 < 1 || size.1 < 1 {
+                return false;
+            }
+            let (w, h) = (size.0 as u64, size.1 as u64);
+            const DROPPED: i64 = (1 << NARROW_QUADRATIC_DROPPED_BITS) - 1;
+            p.iter().all(|p| {
+                let ks = p.coefficients();
+                let low_bits = ks.iter().fold(0, |or, k| or | k);
+                let high = ks.iter().fold(0, |or, k| or | k.unsigned_abs());
+                if low_bits & DROPPED != 0 || high >= 1 << 40 {
+                    return false;
+                }
+                let monomials = [w * w, h * h, w * h, w, h, 1];
+                let bound: u64 = ks
+                    .iter()
+                    .zip(monomials)
+                    .map(|(k, m)| k.unsigned_abs() * m)
+                    .sum();
+                bound < ((1 << 31) - (1 << 20)) << NARROW_QUADRATIC_DROPPED_BITS
+            })
+        }
+        let mut rng = Rng(0x5eed_0f_b0d5);
+        let (mut narrow, mut wide) = (0, 0);
+        for n in 0..200_000 {
+            // One magnitude per set, from small (the bound passes) to far
+            // beyond it; mostly multiples of 2^8; the edges of the high
+            // word's range, and any word, now and then.
+            let bits = rng.range(4, 41) as u32;
+            let coefficient = |rng: &mut Rng| -> i64 {
+                let k = match rng.range(0, 40) {
+                    0 => (1i64 << 39) - rng.range(0, 1 << 10),
+                    1 => -(1i64 << 39) + rng.range(-(1 << 10), 1 << 10),
+                    2 => rng.next() as i64,
+                    // Below 2^40, where a wider test of the high word
+                    // would let `k >> 8` wrap in `i32`.
+                    3 => (1i64 << 40) - rng.range(1, 1 << 12),
+                    _ => rng.range(-(1i64 << bits), 1i64 << bits),
+                };
+                if n % 7 == 0 {
+                    k
+                } else {
+                    k & !0xff
+                }
+            };
+            let poly: [QuadraticPolynomial; 3] = core::array::from_fn(|_| {
+                QuadraticPolynomial::from_coefficients(core::array::from_fn(|_| {
+                    coefficient(&mut rng)
+                }))
+            });
+            let side = |rng: &mut Rng| {
+                if rng.range(0, 1) == 0 {
+                    rng.range(0, 12)
+                } else {
+                    rng.range(0, 130)
+                }
+            };
+            let size = (side(&mut rng), side(&mut rng));
+            let expected = in_64_bits(&poly, size);
+            assert_eq!(walks_in_i32(&poly, size), expected, "{poly:?} {size:?}");
+            if expected {
+                narrow += 1;
+            } else {
+                wide += 1;
+            }
+        }
+        assert!(narrow > 5_000 && wide > 5_000, "{narrow} {wide}");
     }
 
     #[test]
