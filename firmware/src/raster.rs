@@ -870,7 +870,20 @@ where
             let e = e_row;
             let mut color = walk.row();
             walk.skip(&mut color, span.start as u16);
+            // The depth at column `k`: with one sample per pixel, stepped
+            // along with the colors; with a grid, whose masks leave the
+            // loops few registers, the row's value plus `k` steps, one
+            // multiply-accumulate where a pixel is visited (the same
+            // integers; measured in `docs/m4-benchmark.md`).
+            let stepped = M::SAMPLES == 1;
             let mut z = z_row + span.start as i64 * dz;
+            let depth_at = |k: i32, z: i64| {
+                if stepped {
+                    z
+                } else {
+                    z_row + k as i64 * dz
+                }
+            };
             // Where to go on from column `k` (counted from the box's first).
             let stop = |k: i32| {
                 Some(WalkStart {
@@ -889,7 +902,13 @@ where
                     while k < to {
                         let mask = pixel_coverage::<M, E>(&at, tables, &edges.margin);
                         if !mask.is_empty()
-                            && visitor.visit((x0 + k) as u16, row, mask, z, walk.color(&color))
+                            && visitor.visit(
+                                (x0 + k) as u16,
+                                row,
+                                mask,
+                                depth_at(k, z),
+                                walk.color(&color),
+                            )
                         {
                             return stop(k);
                         }
@@ -897,7 +916,9 @@ where
                             at[i] = at[i] + edges.step_x[i];
                         }
                         walk.step(&mut color);
-                        z += dz;
+                        if stepped {
+                            z += dz;
+                        }
                         k += 1;
                     }
                 };
@@ -906,11 +927,14 @@ where
             // The interior: full masks.
             let (mut k, to) = (span.full_start, span.full_end);
             while k < to {
-                if visitor.visit((x0 + k) as u16, row, M::FULL, z, walk.color(&color)) {
+                let depth = depth_at(k, z);
+                if visitor.visit((x0 + k) as u16, row, M::FULL, depth, walk.color(&color)) {
                     return stop(k);
                 }
                 walk.step(&mut color);
-                z += dz;
+                if stepped {
+                    z += dz;
+                }
                 k += 1;
             }
             edge_pixels!(span.full_end, span.end);
