@@ -1444,7 +1444,7 @@ mod tests {
                 bound < ((1 << 31) - (1 << 20)) << NARROW_QUADRATIC_DROPPED_BITS
             })
         }
-        let mut rng = Rng(0x5eed_0f_b0d5);
+        let mut rng = Rng(0x0005_eed0_fb0d);
         let (mut narrow, mut wide) = (0, 0);
         for n in 0..200_000 {
             // One magnitude per set, from small (the bound passes) to far
