@@ -356,7 +356,10 @@ pub mod defaults {
     /// that 55 entries of the former 152 bytes took. In 6-row bands the
     /// built-in scenes fill the table in their busiest bands (an entry stays
     /// until its triangle ends, asked for or not); what does not fit is set
-    /// up again, 33 triangles a frame on the teapot, 219 on the starfighter.
+    /// up again: in frame 0, 58 color setups on the teapot and 255 on the
+    /// starfighter that a table of 256 entries would spare (144 entries
+    /// would spare all but 6 and 99, for 3,200 bytes of the SRAM kept
+    /// free; `docs/m4-benchmark.md`).
     pub const CARRIED_COLORS: usize = 104;
     const _: () = assert!(CARRIED_COLORS <= crate::color_carry::MAX_ENTRIES);
     /// Bytes of RAM the firmware build scripts and `host-sim fit` keep free
