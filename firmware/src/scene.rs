@@ -23,8 +23,9 @@ pub struct Mesh<'a> {
     pub triangles: &'a [[u32; 3]],
     /// What is known of the mesh's shape. `Some`: the mesh bounds solids,
     /// its faces turned outwards, and these are its openings (the loops of
-    /// edges that only one triangle uses, as vertex indices, each loop ended
-    /// by [`OPENING_END`]; empty when the mesh is closed). A two-sided object
+    /// edges that only one triangle uses, as vertex indices in the order
+    /// that triangle runs them, each loop ended by [`OPENING_END`]; empty
+    /// when the mesh is closed). A two-sided object
     /// then skips the faces it turns away that no opening can show (see
     /// [`crate::openings`]). `None`: nothing is known; every face is drawn.
     ///
