@@ -30,7 +30,9 @@ pub struct Mesh<'a> {
     /// [`crate::openings`]). `None`: nothing is known; every face is drawn.
     ///
     /// `abuffer-scenes` finds the openings and checks the shape
-    /// (`mesh_openings`); a wrong `Some` changes the image, never memory safety.
+    /// (`object_openings`, which leaves out an opening that lies inside
+    /// another part's solid: no ray enters through it); a wrong `Some`
+    /// changes the image, never memory safety.
     pub openings: Option<&'a [u32]>,
 }
 

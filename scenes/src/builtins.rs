@@ -206,7 +206,12 @@ pub fn builtin_scene(name: &str, width: u32, height: u32) -> Option<SceneDesc> {
 }
 
 /// An object at the origin with unit scale and default shading.
-fn object(mesh_name: &str, mesh: MeshData, color: [u8; 3], rotation_deg: [f32; 3]) -> ObjectDesc {
+pub(crate) fn object(
+    mesh_name: &str,
+    mesh: MeshData,
+    color: [u8; 3],
+    rotation_deg: [f32; 3],
+) -> ObjectDesc {
     ObjectDesc {
         mesh_name: mesh_name.to_string(),
         mesh,
