@@ -144,9 +144,10 @@ impl MeshShape {
                     }
                     None => {
                         return Err(format!(
-                        "the opening through the vertex at {:?} (fixed-point bits) does not close",
-                        position(v)
-                    ))
+                            "the opening through the vertex at {:?} (fixed-point bits) \
+                             does not close",
+                            position(v)
+                        ))
                     }
                 }
             }
@@ -182,17 +183,26 @@ impl MeshShape {
     /// a plane, a ray along an edge) the opening counts.
     fn buried_loops(&self) -> Vec<bool> {
         let parts = part_of_points(&self.triangles, self.points.len());
-        // Each part's closed surface: its triangles and its openings' fans.
-        let mut surfaces: Vec<(u32, [[i128; 3]; 3])> = Vec::new();
+        // Each part's closed surface (its triangles and its openings' fans),
+        // the parts one after another.
+        let mut by_part: Vec<(u32, [u32; 3])> = self
+            .triangles
+            .iter()
+            .copied()
+            .chain(self.loops.iter().flat_map(|chain| fan(chain)))
+            .map(|t| (parts[t[0] as usize], t))
+            .collect();
+        by_part.sort_by_key(|(part, _)| *part);
         let corners = |t: [u32; 3]| t.map(|v| self.points[v as usize].map(i128::from));
-        for t in &self.triangles {
-            surfaces.push((parts[t[0] as usize], corners(*t)));
-        }
-        for chain in &self.loops {
-            for t in fan(chain) {
-                surfaces.push((parts[chain[0] as usize], corners(t)));
-            }
-        }
+        let triangles: Vec<[[i128; 3]; 3]> = by_part.iter().map(|(_, t)| corners(*t)).collect();
+        let part_surfaces: Vec<(u32, &[[[i128; 3]; 3]])> = by_part
+            .chunk_by(|a, b| a.0 == b.0)
+            .scan(0, |start, group| {
+                let range = *start..*start + group.len();
+                *start = range.end;
+                Some((group[0].0, &triangles[range]))
+            })
+            .collect();
         self.loops
             .iter()
             .map(|chain| {
@@ -200,25 +210,16 @@ impl MeshShape {
                 let fan_triangles: Vec<[[i128; 3]; 3]> = fan(chain).map(corners).collect();
                 let fan_box = bounds(fan_triangles.iter().flatten());
                 let start = self.points[chain[0] as usize].map(i128::from);
-                let mut others: Vec<u32> = surfaces
+                part_surfaces
                     .iter()
-                    .map(|(part, _)| *part)
-                    .filter(|&part| part != own)
-                    .collect();
-                others.sort_unstable();
-                others.dedup();
-                others.into_iter().any(|part| {
-                    let surface: Vec<[[i128; 3]; 3]> = surfaces
-                        .iter()
-                        .filter(|(p, _)| *p == part)
-                        .map(|(_, t)| *t)
-                        .collect();
-                    let apart = surface.iter().all(|s| {
-                        !boxes_meet(s, &fan_box)
-                            || fan_triangles.iter().all(|f| !triangles_may_meet(s, f))
-                    });
-                    apart && winding_number(&surface, start).is_some_and(|w| w >= 1)
-                })
+                    .filter(|(part, _)| *part != own)
+                    .any(|(_, surface)| {
+                        let apart = surface.iter().all(|s| {
+                            !boxes_meet(s, &fan_box)
+                                || fan_triangles.iter().all(|f| !triangles_may_meet(s, f))
+                        });
+                        apart && winding_number(surface, start).is_some_and(|w| w >= 1)
+                    })
             })
             .collect()
     }
