@@ -252,13 +252,18 @@ fn part_of_points(triangles: &[[u32; 3]], points: usize) -> Vec<u32> {
     (0..points as u32).map(|v| root(&mut parent, v)).collect()
 }
 
+/// The triple product `u . (v x w)`: six times the signed volume of the
+/// tetrahedron with edges `u`, `v`, `w` from one corner.
+fn triple(u: [i128; 3], v: [i128; 3], w: [i128; 3]) -> i128 {
+    u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+        + u[2] * (v[0] * w[1] - v[1] * w[0])
+}
+
 /// The sign of the volume of the tetrahedron `a b c d` (positive when `d`
 /// lies on the side that `(b - a) x (c - a)` points to).
 fn orient(a: [i128; 3], b: [i128; 3], c: [i128; 3], d: [i128; 3]) -> i128 {
     let [u, v, w] = [b, c, d].map(|p| [p[0] - a[0], p[1] - a[1], p[2] - a[2]]);
-    (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
-        + u[2] * (v[0] * w[1] - v[1] * w[0]))
-        .signum()
+    triple(u, v, w).signum()
 }
 
 /// Whether segment `p q` crosses triangle `t`: `Some(true)` or `Some(false)`,
@@ -337,8 +342,7 @@ fn check_volumes(
     let part = part_of_points(triangles, points.len());
     let det = |t: [u32; 3]| -> i128 {
         let [p, q, r] = t.map(|v| points[v as usize].map(i128::from));
-        p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0])
-            + p[2] * (q[0] * r[1] - q[1] * r[0])
+        triple(p, q, r)
     };
     let mut volumes: HashMap<u32, i128> = HashMap::new();
     for t in triangles {
