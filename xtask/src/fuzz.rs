@@ -1,8 +1,8 @@
 //! `cargo xtask fuzz`: runs every fuzz target in `fuzz/` for a number of
 //! seconds, starting from the committed seed corpus (`fuzz/corpus/<target>/`,
-//! which is read, never written: new inputs go to a scratch folder). Installs a
-//! nightly toolchain when it is missing. A crash stops the run with the
-//! fuzzer's report; the input is saved under `fuzz/artifacts/<target>/`.
+//! which is read, never written: new inputs go to a scratch folder). A crash
+//! stops the run with the fuzzer's report; the input is saved under
+//! `fuzz/artifacts/<target>/`.
 //!
 //! A fixed `--seed` makes libFuzzer try the same sequence of inputs on every
 //! machine (a faster machine gets further along it), so a run that passed
@@ -11,13 +11,14 @@
 //!
 //! The targets are built with cargo itself and the instrumentation flags that
 //! `cargo fuzz build --sanitizer none` passes (libFuzzer's coverage counters,
-//! comparison tracing, `--cfg fuzzing`, debug assertions and overflow checks),
-//! so nothing beyond nightly is installed; the binaries land where cargo fuzz
-//! puts them (`fuzz/target/<host>/release/`), and `cargo +nightly fuzz run -s
-//! none TARGET` works on the same workspace for longer sessions.
+//! comparison tracing, `--cfg fuzzing`, debug assertions and overflow checks).
+//! Those are stable compiler options, so the project's own toolchain
+//! (`rust-toolchain.toml`) builds the targets and nothing more is installed;
+//! the binaries land where cargo fuzz puts them
+//! (`fuzz/target/<host>/release/`), and `cargo +nightly fuzz run -s none
+//! TARGET` works on the same workspace for longer sessions.
 
 use crate::run::{cargo, describe, output, program, repo_root, status, ScratchDir};
-use std::process::Command;
 
 /// Arguments of `cargo xtask fuzz`.
 #[derive(clap::Args, Debug)]
@@ -81,20 +82,8 @@ pub fn targets() -> Result<Vec<String>, String> {
 
 /// Runs `cargo xtask fuzz`.
 pub fn run(args: &FuzzArgs) -> Result<(), String> {
-    let nightly = Command::new("rustup")
-        .args(["run", "nightly", "rustc", "--version"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !nightly {
-        status(Command::new("rustup").args([
-            "toolchain",
-            "install",
-            "nightly",
-            "--profile",
-            "minimal",
-        ]))?;
-    }
-    let version = output(Command::new("rustup").args(["run", "nightly", "rustc", "-vV"]))?;
+    // The toolchain of `rust-toolchain.toml` (run from the repository's root).
+    let version = output(program("rustc").arg("-vV"))?;
     let host = version
         .lines()
         .find_map(|l| l.strip_prefix("host: "))
@@ -111,7 +100,6 @@ pub fn run(args: &FuzzArgs) -> Result<(), String> {
             .env_remove("CARGO_TARGET_DIR")
             .env("RUSTFLAGS", rustflags(&host))
             .args([
-                "+nightly",
                 "build",
                 "--manifest-path",
                 "fuzz/Cargo.toml",

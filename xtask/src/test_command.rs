@@ -2,7 +2,7 @@
 //!
 //! Installs what is missing (the toolchain of `rust-toolchain.toml` with its
 //! targets, QEMU, flip-link (the firmwares' linker), the toolchain of the
-//! workspace's minimum Rust version, nightly for the fuzz targets), then checks
+//! workspace's minimum Rust version), then checks
 //! formatting and lints, the documentation, packaging and the minimum Rust
 //! version, builds the library for bare-metal targets, and runs the whole
 //! suite: host unit and system tests, the QEMU firmware parity and
@@ -178,7 +178,7 @@ pub fn run() -> Result<(), String> {
         println!("{line}");
     }
 
-    steps.step("fuzz: 10 s per target from the seed corpus with a fixed seed (installs nightly)");
+    steps.step("fuzz: 10 s per target from the seed corpus with a fixed seed");
     // A fixed seed: the same inputs on every machine, in the same order.
     // Exploring new inputs is `cargo xtask fuzz --seconds N`.
     crate::fuzz::run(&crate::fuzz::FuzzArgs {
