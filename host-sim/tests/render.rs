@@ -284,8 +284,7 @@ fn skipping_faces_after_a_hidden_triangle_changes_no_image() {
 
 #[test]
 fn command_line_renders_a_builtin_scene() {
-    let dir = std::env::temp_dir().join(format!("host-sim-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = abuffer_test_support::ScratchDir::new("host-sim-cli");
     let png = dir.join("teapot.png");
     let json = dir.join("stats.json");
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_host-sim"))

@@ -1,13 +1,14 @@
 //! The test program's commands: compare, sweep, stats, turntable animation, and
 //! the synthetic scenes they run on.
 
+use abuffer_test_support::ScratchDir;
 use host_sim::builtins::builtin_scene;
 use host_sim::convert::to_fixed;
 use host_sim::render::{render, Grid, Method, RenderConfig};
 use host_sim::sweep::{
     run_sweep, sweep_configs, to_csv, turntable_angles, Policy, PoolSizing, SweepParams, CSV_HEADER,
 };
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn host_sim(args: &[&str]) -> Output {
@@ -26,10 +27,8 @@ fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("host-sim-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> ScratchDir {
+    ScratchDir::new(&format!("host-sim-{name}"))
 }
 
 /// Writes a PNG of any 8-bit color type.

@@ -261,8 +261,7 @@ fn counters_are_deterministic() {
 
 #[test]
 fn command_line_takes_the_subdivision_options() {
-    let dir = std::env::temp_dir().join(format!("zbuffer-modes-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = abuffer_test_support::ScratchDir::new("zbuffer-modes");
     let host_sim = env!("CARGO_BIN_EXE_host-sim");
     let png = dir.join("m.png");
     let json = dir.join("m.json");

@@ -11,15 +11,18 @@
 //! - [`PerSampleZBuffer`]: the oracle of SPEC section 3, a z-buffer per sample
 //!   that an unlimited A-buffer must equal;
 //! - [`Checked`]: a band buffer wrapper that asserts the A-buffer's invariants
-//!   after every insertion and at the end of every band.
+//!   after every insertion and at the end of every band;
+//! - [`ScratchDir`]: a test's own temporary folder, removed when the test passes.
 #![warn(missing_docs)]
 
 mod checked;
 mod oracle;
 mod scene;
+mod scratch;
 mod workspace;
 
 pub use checked::{Checked, Inspect};
 pub use oracle::PerSampleZBuffer;
 pub use scene::{OwnedObject, OwnedScene};
+pub use scratch::ScratchDir;
 pub use workspace::{first_difference, render_rgb, FragmentStorage, OwnedWorkspace, Rendered};

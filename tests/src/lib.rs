@@ -5,6 +5,7 @@
 //! oracle and the invariant checks are `abuffer_test_support`'s. Colors are kept
 //! as `[u8; 3]` in the tests and converted at the library boundary.
 
+pub use abuffer_test_support::ScratchDir;
 use abuffer_test_support::{render_rgb, FragmentStorage, OwnedObject, OwnedScene, OwnedWorkspace};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
@@ -538,14 +539,11 @@ pub fn triangle_streams<M: CoverageMask>(
 // Scratch folders of the firmware tests
 // ---------------------------------------------------------------------------------
 
-/// An empty folder `abuffer-NAME-PID` under the system's temporary folder (emptied
-/// first if a previous run left it), where a firmware test puts its ELF and
-/// QEMU's output files.
-pub fn scratch_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("abuffer-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// An empty folder `abuffer-NAME-PID` under the system's temporary folder, where
+/// a firmware test puts its ELF and QEMU's output files; removed when the test
+/// passes, kept when it fails ([`ScratchDir`]).
+pub fn scratch_dir(name: &str) -> ScratchDir {
+    ScratchDir::new(&format!("abuffer-{name}"))
 }
 
 // ---------------------------------------------------------------------------------

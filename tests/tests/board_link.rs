@@ -12,7 +12,7 @@ const FLASH: u64 = 512 * 1024;
 const RAM: u64 = 128 * 1024;
 const STACK_RESERVE: u64 = STACK_RESERVE_BYTES as u64;
 
-fn scratch(name: &str) -> std::path::PathBuf {
+fn scratch(name: &str) -> system_tests::ScratchDir {
     system_tests::scratch_dir(&format!("board-{name}"))
 }
 
@@ -25,7 +25,8 @@ fn board_firmware_links_within_the_f411() {
     ) {
         return;
     }
-    let elf = scratch("default").join("blackpill-st7789.elf");
+    let dir = scratch("default");
+    let elf = dir.join("blackpill-st7789.elf");
     build_board(&[], &elf).unwrap_or_else(|e| panic!("board build failed: {e}"));
     let link = read_link_report(&elf).unwrap();
     let statics = link.data + link.bss + link.uninit;
@@ -103,7 +104,8 @@ fn an_oversized_board_configuration_names_the_overshoot() {
     ) {
         return;
     }
-    let elf = scratch("oversized").join("blackpill-st7789.elf");
+    let dir = scratch("oversized");
+    let elf = dir.join("blackpill-st7789.elf");
     let err = build_board(&[("BOARD_POOL", "4000".to_string())], &elf).unwrap_err();
     assert!(
         err.contains("does not fit 131072 bytes by"),

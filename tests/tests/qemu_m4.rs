@@ -8,8 +8,8 @@
 use host_sim::builtins::builtin_scene;
 use host_sim::convert::to_fixed;
 use host_sim::render::{render, Grid, Method, RenderConfig};
-use std::path::PathBuf;
 use std::time::Duration;
+use system_tests::ScratchDir;
 use xtask::firmware::{build_m4, run_m4, FirmwareConfig, FirmwareRun};
 
 /// Upper bounds on instructions per frame (teapot, default M4 configuration),
@@ -23,7 +23,7 @@ const TEAPOT_ZBUFFER_MAX_INSTRUCTIONS: u64 = 12_100_000;
 /// See [`TEAPOT_SHARED_MAX_INSTRUCTIONS`].
 const TEAPOT_SPLIT_BANDS_MAX_INSTRUCTIONS: u64 = 24_500_000;
 
-fn workdir(name: &str) -> PathBuf {
+fn workdir(name: &str) -> ScratchDir {
     system_tests::scratch_dir(&format!("qemu-{name}"))
 }
 
@@ -244,7 +244,8 @@ fn the_linked_renderer_memory_is_the_counted_one() {
         frames: 1,
         ..FirmwareConfig::default()
     };
-    let elf = workdir("linked-memory").join("firmware.elf");
+    let dir = workdir("linked-memory");
+    let elf = dir.join("firmware.elf");
     build_m4(&config, &[], &elf).unwrap_or_else(|e| panic!("firmware build failed: {e}"));
     let linked = read_link_report(&elf).unwrap().renderer;
     let mut desc = builtin_scene(&config.scene, 240, 240).unwrap();

@@ -51,7 +51,7 @@ fn median(mut v: Vec<u64>) -> u64 {
 
 /// Runs the benchmark and prints a table.
 pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
-    let dir = std::env::temp_dir().join(format!("abuffer-bench-{}", std::process::id()));
+    let dir = crate::run::scratch_dir("bench")?;
     let mut table = String::new();
     writeln!(table, "| scene | method | median instructions/frame | min | max | of which output | fragments | merges | pool peak |").unwrap();
     writeln!(table, "|---|---|---|---|---|---|---|---|---|").unwrap();
@@ -130,10 +130,10 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
 /// `docs/m4-profile/teapot-<method>.txt`. Needs qemu-system-arm, python3 and
 /// llvm-symbolizer (Debian's llvm package); about a minute per method.
 pub fn profile() -> Result<(), String> {
-    use crate::run::{create_dir, output, program, repo_root, ScratchDir};
+    use crate::run::{create_dir, output, program, repo_root, scratch_dir};
     let out_dir = repo_root().join("docs/m4-profile");
     create_dir(&out_dir)?;
-    let scratch = ScratchDir::new("profile")?;
+    let scratch = scratch_dir("profile")?;
     for method in ["shared", "zbuffer", "split-bands"] {
         let config = FirmwareConfig {
             frames: 1,

@@ -18,7 +18,7 @@
 //! (`fuzz/target/<host>/release/`), and `cargo +nightly fuzz run -s none
 //! TARGET` works on the same workspace for longer sessions.
 
-use crate::run::{cargo, describe, output, program, repo_root, status, ScratchDir};
+use crate::run::{cargo, describe, output, program, repo_root, scratch_dir, status};
 
 /// Arguments of `cargo xtask fuzz`.
 #[derive(clap::Args, Debug)]
@@ -113,7 +113,7 @@ pub fn run(args: &FuzzArgs) -> Result<(), String> {
             ])
             .args(["--bins", "--quiet"]),
     )?;
-    let scratch = ScratchDir::new("fuzz")?;
+    let scratch = scratch_dir("fuzz")?;
     for target in &targets {
         let corpus = scratch.path().join(target);
         let artifacts = format!("fuzz/artifacts/{target}/");

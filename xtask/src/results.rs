@@ -16,7 +16,7 @@
 //! discarded, where it is a result it is written to its file; the programs'
 //! errors always reach the terminal.
 
-use crate::run::{create_dir, describe, host_sim_release, program, repo_root, status, ScratchDir};
+use crate::run::{create_dir, describe, host_sim_release, program, repo_root, scratch_dir, status};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -92,7 +92,7 @@ pub fn zbuffer_table(repeat: u32) -> Result<(), String> {
     let hs = host_sim_release()?;
     let repeat = repeat.to_string();
     create_dir(&repo_root().join(OUT))?;
-    let tmp = ScratchDir::new("zbuffer-table")?;
+    let tmp = scratch_dir("zbuffer-table")?;
 
     for (extra, name) in [
         (&["--scene", "overdraw"][..], "zbuffer-overdraw"),
@@ -177,7 +177,7 @@ pub fn results() -> Result<(), String> {
     let hs = || program(&host_sim);
     let root = repo_root();
     create_dir(&root.join(OUT))?;
-    let tmp = ScratchDir::new("results")?;
+    let tmp = scratch_dir("results")?;
     let tmp = tmp.path();
 
     // Sections 1, 2 and 4: every policy at 1..8 fragments per pixel over a

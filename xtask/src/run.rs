@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 pub use crate::firmware::repo_root;
+pub use abuffer_test_support::ScratchDir;
 
 /// `cargo` (the rustup proxy on `PATH`, so that `+toolchain` works) in the
 /// repository root.
@@ -95,27 +96,8 @@ pub fn create_dir(dir: &Path) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))
 }
 
-/// A scratch folder removed when dropped.
-pub struct ScratchDir(PathBuf);
-
-impl ScratchDir {
-    /// A new empty folder under the system's temporary folder, named after
-    /// `purpose` and this process.
-    pub fn new(purpose: &str) -> Result<Self, String> {
-        let dir = std::env::temp_dir().join(format!("xtask-{purpose}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        create_dir(&dir)?;
-        Ok(Self(dir))
-    }
-
-    /// The folder.
-    pub fn path(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for ScratchDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
+/// A scratch folder `xtask-PURPOSE-PID` under the system's temporary folder,
+/// removed when dropped ([`abuffer_test_support::ScratchDir`]).
+pub fn scratch_dir(purpose: &str) -> Result<ScratchDir, String> {
+    ScratchDir::try_new(&format!("xtask-{purpose}"))
 }

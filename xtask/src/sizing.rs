@@ -4,7 +4,7 @@
 //! winner's instructions per frame on the Cortex-M4 under QEMU).
 
 use crate::firmware::{build_m4, run_m4, FirmwareConfig};
-use crate::run::ScratchDir;
+use crate::run::scratch_dir;
 use host_sim::fit::{print_link_report, run_fit, FitArgs};
 use host_sim::tune::{method_name, run_tune, TuneArgs};
 use mcu_abuffer::memory::defaults;
@@ -28,7 +28,7 @@ pub fn fit_link(args: &FitArgs) -> Result<(), String> {
     if args.width != 240 || args.height != 240 || args.ram != 128 * 1024 {
         println!("note: the firmware is the default board (240x240 in 128 KiB); width, height and ram here do not change it");
     }
-    let dir = ScratchDir::new("fit-link")?;
+    let dir = scratch_dir("fit-link")?;
     let elf = dir.path().join("firmware.elf");
     match build_m4(&config, &[], &elf) {
         Ok(()) => print_link_report(&elf, &analytic),
@@ -55,7 +55,7 @@ pub fn tune(args: &TuneArgs) -> Result<(), String> {
         pool: best.pool,
         fixed: defaults::FIXED_SLOTS,
     };
-    let dir = ScratchDir::new("tune")?;
+    let dir = scratch_dir("tune")?;
     let elf = dir.path().join("firmware.elf");
     build_m4(&config, &[], &elf)?;
     let run = run_m4(&elf, dir.path(), Duration::from_secs(600))?;
