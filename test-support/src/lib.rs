@@ -12,7 +12,8 @@
 //!   that an unlimited A-buffer must equal;
 //! - [`Checked`]: a band buffer wrapper that asserts the A-buffer's invariants
 //!   after every insertion and at the end of every band;
-//! - [`ScratchDir`]: a test's own temporary folder, removed when the test passes.
+//! - [`ScratchDir`]: a test's own temporary folder, removed when dropped unless
+//!   the test is failing.
 #![warn(missing_docs)]
 
 mod checked;

@@ -540,8 +540,8 @@ pub fn triangle_streams<M: CoverageMask>(
 // ---------------------------------------------------------------------------------
 
 /// An empty folder `abuffer-NAME-PID` under the system's temporary folder, where
-/// a firmware test puts its ELF and QEMU's output files; removed when the test
-/// passes, kept when it fails ([`ScratchDir`]).
+/// a firmware test puts its ELF and QEMU's output files; removed when dropped,
+/// kept when dropped while the test fails ([`ScratchDir`]).
 pub fn scratch_dir(name: &str) -> ScratchDir {
     ScratchDir::new(&format!("abuffer-{name}"))
 }
