@@ -9,8 +9,9 @@ use std::path::{Path, PathBuf};
 ///
 /// It is emptied when made, in case an earlier run of the same process id left
 /// it, and removed when dropped, so that passing tests leave nothing behind. A
-/// test that fails keeps it for inspection: when the folder is dropped while the
-/// thread panics, it stays and its path is printed on standard error.
+/// test that fails while the folder is alive keeps it for inspection: when the
+/// folder is dropped while the thread panics, it stays and its path is printed
+/// on standard error. A failure after the drop finds the folder gone.
 ///
 /// It dereferences to its [`Path`], so `dir.join("firmware.elf")` names a file
 /// in it. Keep the `ScratchDir` itself alive while the files are used.
