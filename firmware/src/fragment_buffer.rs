@@ -126,7 +126,7 @@ pub struct BufferStorage<'a, M: CoverageMask, A: PoolAddress> {
 /// compiled copy). [`ConstShape`] fixes them, as the static memory of a
 /// firmware does ([`crate::memory::FragmentMemory::buffer`]), and the
 /// compiler folds the pixel index and the slot arithmetic (3.4 % fewer
-/// instructions in a teapot frame on the Cortex-M4, `docs/m4-benchmark.md`).
+/// instructions in a teapot frame on the Cortex-M4, `docs/m4-benchmark-history.md`).
 /// The image and the statistics are the same bits either way;
 /// [`FragmentBuffer::new`] refuses a configuration whose sizes differ from
 /// the shape's constants.

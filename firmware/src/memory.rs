@@ -331,7 +331,7 @@ impl<
 /// about that size on the Cortex-M4, 6 rows with this pool drew the built-in
 /// scenes fastest with the default `split-bands` (teapot 45.6 M instructions a
 /// frame, against 49.8 M with 7 rows and 837 slots, 56.7 M with 8 rows and
-/// 512 slots, 46.8 M with 5 rows and 1,488 slots; docs/m4-benchmark.md): a
+/// 512 slots, 46.8 M with 5 rows and 1,488 slots; docs/m4-benchmark-history.md): a
 /// larger pool splits fewer bands, shorter bands set more triangles up twice.
 /// The board demo keeps these sizes but a pool of 512 slots, which leaves its
 /// two DMA line buffers and its stack room in 128 KiB.
@@ -359,7 +359,7 @@ pub mod defaults {
     /// up again: in frame 0, 58 color setups on the teapot and 255 on the
     /// starfighter that a table of 256 entries would spare (144 entries
     /// would spare all but 6 and 99, for 3,200 bytes of the SRAM kept
-    /// free; `docs/m4-benchmark.md`).
+    /// free; `docs/m4-benchmark-history.md`).
     pub const CARRIED_COLORS: usize = 104;
     const _: () = assert!(CARRIED_COLORS <= crate::color_carry::MAX_ENTRIES);
     /// Bytes of RAM the firmware build scripts and `host-sim fit` keep free

@@ -874,7 +874,7 @@ where
             // along with the colors; with a grid, whose masks leave the
             // loops few registers, the row's value plus `k` steps, one
             // multiply-accumulate where a pixel is visited (the same
-            // integers; measured in `docs/m4-benchmark.md`).
+            // integers; measured in `docs/m4-benchmark-history.md`).
             let stepped = M::SAMPLES == 1;
             let mut z = z_row + span.start as i64 * dz;
             let depth_at = |k: i32, z: i64| {
