@@ -12,6 +12,7 @@
 mod blob;
 mod geom;
 pub mod overdraw;
+mod random;
 mod shapes;
 mod starfighter;
 pub mod synthetic;

@@ -12,3 +12,4 @@ pub mod obj;
 pub mod openings;
 pub mod scene_desc;
 pub mod scene_file;
+mod wide_vector;

@@ -21,6 +21,7 @@ use std::fmt;
 use std::path::Path;
 
 use crate::scene_desc::MeshData;
+use crate::wide_vector::{cross, length, sub, widen};
 
 /// An error while loading a scene or mesh file, with where it happened.
 #[derive(Debug, Clone, PartialEq)]
@@ -292,7 +293,7 @@ fn read_coordinates(keyword: &str, args: &[&str]) -> Result<[f32; 3], String> {
 /// Normalizes a normal given in the file; a zero-length normal is an error.
 fn normalize_given(n: [f32; 3]) -> Result<[f32; 3], String> {
     let wide = widen(n);
-    let length = dot(wide, wide).sqrt();
+    let length = length(wide);
     if length == 0.0 {
         return Err("zero-length normal in 'vn' statement".to_string());
     }
@@ -301,7 +302,7 @@ fn normalize_given(n: [f32; 3]) -> Result<[f32; 3], String> {
 
 /// Normalizes a computed normal sum, falling back to +Z when it is zero.
 fn normalize_sum(sum: [f64; 3]) -> [f32; 3] {
-    let length = dot(sum, sum).sqrt();
+    let length = length(sum);
     if length > 0.0 && length.is_finite() {
         sum.map(|c| (c / length) as f32)
     } else {
@@ -349,26 +350,6 @@ fn resolve_index(index: i64, defined: usize, what: &str, plural: &str) -> Result
         ));
     }
     Ok(resolved as usize)
-}
-
-fn widen(v: [f32; 3]) -> [f64; 3] {
-    v.map(f64::from)
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 #[cfg(test)]

@@ -57,6 +57,7 @@ use toml::Spanned;
 
 use crate::obj::{self, LoadError};
 use crate::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc, ShadingDesc};
+use crate::wide_vector::{cross, length, sub, widen};
 
 /// The prefix that selects a built-in mesh instead of an OBJ file.
 const BUILTIN_PREFIX: &str = "builtin:";
@@ -549,24 +550,4 @@ fn load_referenced_obj(
         )
     })?;
     obj::parse_obj_bytes(&bytes, &obj_name)
-}
-
-fn widen(v: [f32; 3]) -> [f64; 3] {
-    v.map(f64::from)
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn length(v: [f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }

@@ -5,6 +5,7 @@
 //! buffer can save per-pixel work. The same seed gives the same scene on every
 //! machine.
 
+use super::random::SplitMix64;
 use super::shapes::{cube, icosphere};
 use crate::scene_desc::ObjectDesc;
 
@@ -23,25 +24,6 @@ const Z_RANGE: (f32, f32) = (-6.0, 0.0);
 const SCALE_RANGE: (f32, f32) = (0.25, 0.6);
 /// Icosphere level of the spheres (80 triangles).
 const SPHERE_LEVEL: u32 = 1;
-
-/// SplitMix64: a small generator whose output depends only on the seed.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[lo, hi)`, from the top 24 bits (exact in `f32`).
-    fn uniform(&mut self, lo: f32, hi: f32) -> f32 {
-        let unit = (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32;
-        lo + (hi - lo) * unit
-    }
-}
 
 /// The objects of `overdraw[:N[:SEED]]` (`params` are the parts after the
 /// name), `None` for bad parameters.
