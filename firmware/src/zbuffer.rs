@@ -12,11 +12,7 @@ pub const EMPTY_DEPTH: u32 = u32::MAX;
 
 /// A band of depths and colors, one per pixel.
 pub struct ZBuffer<'a> {
-    width: u16,
-    band_height: u16,
-    depth: &'a mut [u32],
-    color: &'a mut [Rgb888],
-    empty_color: EmptyColor,
+    band: DepthColorBand<'a>,
     stats: BufferStats,
 }
 
@@ -30,16 +26,8 @@ impl<'a> ZBuffer<'a> {
         depth: &'a mut [u32],
         color: &'a mut [Rgb888],
     ) -> Option<Self> {
-        let n = width as usize * band_height as usize;
-        if n == 0 || depth.len() != n || color.len() != n {
-            return None;
-        }
         Some(Self {
-            width,
-            band_height,
-            depth,
-            color,
-            empty_color: EmptyColor::default(),
+            band: DepthColorBand::new(width, band_height, depth, color)?,
             stats: BufferStats::default(),
         })
     }
@@ -47,21 +35,20 @@ impl<'a> ZBuffer<'a> {
 
 impl BandBuffer<Mask1x1> for ZBuffer<'_> {
     fn width(&self) -> u16 {
-        self.width
+        self.band.width
     }
 
     fn band_height(&self) -> u16 {
-        self.band_height
+        self.band.band_height
     }
 
     fn begin_band(&mut self, _y0: u16, rows: u16) {
-        let n = self.width as usize * rows.min(self.band_height) as usize;
-        self.empty_color.begin_band(self.depth, self.color, n);
+        self.band.begin_band(rows.min(self.band.band_height));
     }
 
     #[inline]
     fn hides(&mut self, x: u16, row: u16, depth: i64) -> bool {
-        let stored = self.depth[row as usize * self.width as usize + x as usize];
+        let stored = self.band.depth[self.band.index(x, row)];
         stored != EMPTY_DEPTH && 16 * (stored as i64) < depth
     }
 
@@ -71,9 +58,9 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         // `16 stored < depth` exactly when `stored < ceil(depth / 16)`; the
         // clamp keeps empty pixels out and changes no other answer.
         let nearer_than = (depth + 15).div_euclid(16).clamp(0, EMPTY_DEPTH as i64) as u32;
-        let start = row as usize * self.width as usize;
-        let (x0, x1) = (x0 as usize, (x1 as usize).min(self.width as usize - 1));
-        let Some(depths) = self.depth.get(start + x0..start + x1 + 1) else {
+        let start = self.band.index(0, row);
+        let (x0, x1) = (x0 as usize, (x1 as usize).min(self.band.width as usize - 1));
+        let Some(depths) = self.band.depth.get(start + x0..start + x1 + 1) else {
             return 0;
         };
         depths.iter().take_while(|&&d| d < nearer_than).count() as u32
@@ -86,8 +73,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
 
     #[inline]
     fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<Mask1x1>) -> bool {
-        let p = row as usize * self.width as usize + x as usize;
-        if fragment.z <= self.depth[p] {
+        if fragment.z <= self.band.depth[self.band.index(x, row)] {
             return true;
         }
         self.stats.fragments_hidden_on_arrival += 1;
@@ -98,8 +84,9 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<Mask1x1>) {
         // Only what is stored and what is hidden are counted here; the
         // fragments and depth tests are their sum (see `stats`).
-        let p = row as usize * self.width as usize + x as usize;
-        let (Some(depth), Some(color)) = (self.depth.get_mut(p), self.color.get_mut(p)) else {
+        let p = self.band.index(x, row);
+        let (Some(depth), Some(color)) = (self.band.depth.get_mut(p), self.band.color.get_mut(p))
+        else {
             return;
         };
         if fragment.mask == Mask1x1::FULL && fragment.z <= *depth {
@@ -124,18 +111,18 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         walk: &W,
         color: &mut W::Row,
     ) {
-        let start = row as usize * self.width as usize + x as usize;
+        let start = self.band.index(x, row);
         let end = start + run.len as usize;
         // The plane is linear: when both ends of the run round into range,
         // every pixel between does.
         let last = run.depth + (run.len as i64 - 1) * run.depth_step;
-        if end > self.depth.len() || !depth_in_range(run.depth) || !depth_in_range(last) {
+        if end > self.band.depth.len() || !depth_in_range(run.depth) || !depth_in_range(last) {
             return insert_each(self, x, row, run, walk, color);
         }
         let mut rounded = run.depth + PLANE_HALF_UNIT;
         let (mut stored, mut replaced) = (0u32, 0u32);
-        let depths = &mut self.depth[start..end];
-        let colors = &mut self.color[start..end];
+        let depths = &mut self.band.depth[start..end];
+        let colors = &mut self.band.color[start..end];
         for (stored_depth, stored_color) in depths.iter_mut().zip(colors) {
             let z = (rounded >> PLANE_EXTRA_BITS) as u32;
             if z <= *stored_depth {
@@ -153,17 +140,15 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        self.empty_color
-            .resolve_row(self.depth, self.color, self.width, row, background, out);
+        self.band.resolve_row(row, background, out);
     }
 
     fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        self.empty_color
-            .row_colors(self.color, self.width, row, background)
+        self.band.row_colors(row, background)
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
-        (self.depth[row as usize * self.width as usize + x as usize] != EMPTY_DEPTH) as u32
+        self.band.is_drawn(x, row) as u32
     }
 
     fn stats(&self) -> BufferStats {
@@ -189,99 +174,131 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
     }
 }
 
-/// The plain depth test of pixel `p` (ties go to the later fragment, as in the
-/// A-buffer's visibility masks), storing the fragment when it passes and counting
-/// it in `stats`. Shared by the z-buffer variants.
-#[inline]
-pub(crate) fn depth_test_and_store(
-    depth: &mut [u32],
-    color: &mut [Rgb888],
-    p: usize,
-    fragment: &Fragment<Mask1x1>,
-    stats: &mut BufferStats,
-) {
-    if fragment.mask == Mask1x1::FULL && fragment.z <= depth[p] {
-        if depth[p] != EMPTY_DEPTH {
-            stats.fragments_removed_hidden += 1;
-        }
-        depth[p] = fragment.z;
-        color[p] = fragment.color;
-        stats.fragments_stored += 1;
-        stats.max_fragments_in_pixel = 1;
-    } else {
-        stats.fragments_hidden_on_arrival += 1;
-    }
-}
-
-/// The color a z-buffer band keeps in its empty pixels, so that resolving
-/// a row is a copy.
+/// The storage of the z-buffer modes: a band of depths and colors, one per
+/// pixel, row by row, and the color its empty pixels hold.
 ///
 /// A band's colors are filled at its start with the background the last
-/// resolve asked for (a frame's bands share one); a row resolved with that
-/// background is its colors as they are. A band begun before any resolve,
-/// or a row asked with another background, is resolved pixel by pixel
-/// from the depths (the same colors).
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct EmptyColor {
+/// resolve asked for (a frame's bands share one), so that a row resolved
+/// with that background is its colors as they are, a copy. A band begun
+/// before any resolve, or a row asked with another background, is resolved
+/// pixel by pixel from the depths (the same colors).
+pub(crate) struct DepthColorBand<'a> {
+    /// Pixels per row.
+    pub(crate) width: u16,
+    /// Rows the band holds.
+    pub(crate) band_height: u16,
+    /// Depths ([`EMPTY_DEPTH`] where nothing is drawn).
+    pub(crate) depth: &'a mut [u32],
+    /// Colors (the fill, where nothing is drawn).
+    pub(crate) color: &'a mut [Rgb888],
     /// What the next band's colors are filled with.
-    next: Option<Rgb888>,
+    next_fill: Option<Rgb888>,
     /// What this band's colors were filled with.
-    band: Option<Rgb888>,
+    fill: Option<Rgb888>,
 }
 
-impl EmptyColor {
-    /// Starts a band of the first `n` pixels: every depth empty, every
-    /// color the background of the last resolve (when there was one).
+impl<'a> DepthColorBand<'a> {
+    /// A band over `depth` and `color`, each of length `width * band_height`;
+    /// `None` when a slice has another length or a size is zero.
+    pub(crate) fn new(
+        width: u16,
+        band_height: u16,
+        depth: &'a mut [u32],
+        color: &'a mut [Rgb888],
+    ) -> Option<Self> {
+        let n = width as usize * band_height as usize;
+        if n == 0 || depth.len() != n || color.len() != n {
+            return None;
+        }
+        Some(Self {
+            width,
+            band_height,
+            depth,
+            color,
+            next_fill: None,
+            fill: None,
+        })
+    }
+
+    /// Where pixel `(x, row)` of the band is in `depth` and `color`.
+    #[inline(always)]
+    pub(crate) fn index(&self, x: u16, row: u16) -> usize {
+        row as usize * self.width as usize + x as usize
+    }
+
+    /// Whether pixel `(x, row)` holds a fragment.
     #[inline]
-    pub(crate) fn begin_band(&mut self, depth: &mut [u32], color: &mut [Rgb888], n: usize) {
-        depth[..n].fill(EMPTY_DEPTH);
-        self.band = self.next;
-        if let Some(background) = self.band {
-            color[..n].fill(background);
+    pub(crate) fn is_drawn(&self, x: u16, row: u16) -> bool {
+        self.depth[self.index(x, row)] != EMPTY_DEPTH
+    }
+
+    /// Starts a band of `rows` rows (at most `band_height`): every depth
+    /// empty, every color the background of the last resolve (when there
+    /// was one).
+    #[inline]
+    pub(crate) fn begin_band(&mut self, rows: u16) {
+        let n = self.width as usize * rows as usize;
+        self.depth[..n].fill(EMPTY_DEPTH);
+        self.fill = self.next_fill;
+        if let Some(background) = self.fill {
+            self.color[..n].fill(background);
         }
     }
 
-    /// Row `row` of the `width` pixels wide `color` band, when its empty
-    /// pixels hold `background` ([`BandBuffer::row_colors`]).
+    /// The plain depth test of pixel `p` (ties go to the later fragment, as
+    /// in the A-buffer's visibility masks), storing the fragment when it
+    /// passes and counting it in `stats`; the depth it replaced, when it
+    /// passes.
     #[inline]
-    pub(crate) fn row_colors<'c>(
-        &self,
-        color: &'c [Rgb888],
-        width: u16,
-        row: u16,
-        background: Rgb888,
-    ) -> Option<&'c [Rgb888]> {
-        let start = row as usize * width as usize;
-        if self.band == Some(background) {
-            color.get(start..start + width as usize)
+    pub(crate) fn test_and_store(
+        &mut self,
+        p: usize,
+        fragment: &Fragment<Mask1x1>,
+        stats: &mut BufferStats,
+    ) -> Option<u32> {
+        let old = self.depth[p];
+        if fragment.mask == Mask1x1::FULL && fragment.z <= old {
+            if old != EMPTY_DEPTH {
+                stats.fragments_removed_hidden += 1;
+            }
+            self.depth[p] = fragment.z;
+            self.color[p] = fragment.color;
+            stats.fragments_stored += 1;
+            stats.max_fragments_in_pixel = 1;
+            Some(old)
+        } else {
+            stats.fragments_hidden_on_arrival += 1;
+            None
+        }
+    }
+
+    /// Row `row`'s colors, when its empty pixels hold `background`
+    /// ([`BandBuffer::row_colors`]).
+    #[inline]
+    pub(crate) fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
+        let start = self.index(0, row);
+        if self.fill == Some(background) {
+            self.color.get(start..start + self.width as usize)
         } else {
             None
         }
     }
 
-    /// Row `row` of a depth and color band `width` pixels wide into `out`:
-    /// a pixel's color, or `background` where nothing was drawn.
+    /// Row `row` into `out`: a pixel's color, or `background` where nothing
+    /// was drawn.
     // Out of line: inlined into the frame loop, its loop reloads what the
     // registers there cannot hold.
     #[inline(never)]
-    pub(crate) fn resolve_row(
-        &mut self,
-        depth: &[u32],
-        color: &[Rgb888],
-        width: u16,
-        row: u16,
-        background: Rgb888,
-        out: &mut [Rgb888],
-    ) {
-        let start = row as usize * width as usize;
-        let shown = (width as usize).min(out.len());
-        let colors = &color[start..start + shown];
-        self.next = Some(background);
-        if self.band == Some(background) {
+    pub(crate) fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+        let start = self.index(0, row);
+        let shown = (self.width as usize).min(out.len());
+        let colors = &self.color[start..start + shown];
+        self.next_fill = Some(background);
+        if self.fill == Some(background) {
             out[..shown].copy_from_slice(colors);
             return;
         }
-        let depths = &depth[start..start + shown];
+        let depths = &self.depth[start..start + shown];
         for ((px, &z), &c) in out[..shown].iter_mut().zip(depths).zip(colors) {
             *px = if z == EMPTY_DEPTH { background } else { c };
         }

@@ -21,13 +21,13 @@
 //! pixels (counted as [`BufferStats::tile_refresh_reads`]).
 
 use crate::band_buffer::{BandBuffer, DrawParams};
-use crate::coverage::{CoverageMask, Mask1x1};
+use crate::coverage::Mask1x1;
 use crate::fixed_point::DEPTH_MAX;
 use crate::fragment::Fragment;
 use crate::raster::rasterize;
 use crate::setup::{Rejection, SetupVertex, TriangleSetup};
 use crate::stats::BufferStats;
-use crate::zbuffer::{EmptyColor, EMPTY_DEPTH};
+use crate::zbuffer::{DepthColorBand, EMPTY_DEPTH};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// log2 of the tile side.
@@ -72,13 +72,9 @@ pub const fn tile_count(width: u16, band_height: u16) -> usize {
 
 /// A band of depths and colors, one per pixel, with a farthest depth per 8 x 8 tile.
 pub struct HierarchicalZBuffer<'a> {
-    width: u16,
-    band_height: u16,
+    band: DepthColorBand<'a>,
     rows: u16,
     tiles_x: u16,
-    depth: &'a mut [u32],
-    color: &'a mut [Rgb888],
-    empty_color: EmptyColor,
     tiles: &'a mut [HizTile],
     stats: BufferStats,
 }
@@ -95,22 +91,13 @@ impl<'a> HierarchicalZBuffer<'a> {
         color: &'a mut [Rgb888],
         tiles: &'a mut [HizTile],
     ) -> Option<Self> {
-        let n = width as usize * band_height as usize;
-        if n == 0
-            || depth.len() != n
-            || color.len() != n
-            || tiles.len() != tile_count(width, band_height)
-        {
+        if tiles.len() != tile_count(width, band_height) {
             return None;
         }
         Some(Self {
-            width,
-            band_height,
+            band: DepthColorBand::new(width, band_height, depth, color)?,
             rows: band_height,
             tiles_x: width.div_ceil(TILE_SIDE),
-            depth,
-            color,
-            empty_color: EmptyColor::default(),
             tiles,
             stats: BufferStats::default(),
         })
@@ -129,7 +116,7 @@ impl<'a> HierarchicalZBuffer<'a> {
         let y0 = ty << TILE_SHIFT;
         (
             x0,
-            (x0 + TILE_SIDE).min(self.width),
+            (x0 + TILE_SIDE).min(self.band.width),
             y0,
             (y0 + TILE_SIDE).min(self.rows),
         )
@@ -141,8 +128,8 @@ impl<'a> HierarchicalZBuffer<'a> {
         let mut far = 0u32;
         let mut count = 0u8;
         for row in y0..y1 {
-            let start = row as usize * self.width as usize;
-            for &d in &self.depth[start + x0 as usize..start + x1 as usize] {
+            let start = self.band.index(0, row);
+            for &d in &self.band.depth[start + x0 as usize..start + x1 as usize] {
                 if d > far {
                     far = d;
                     count = 1;
@@ -216,17 +203,16 @@ fn depth_at(setup: &TriangleSetup, x: u16, y: u16) -> u32 {
 
 impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
     fn width(&self) -> u16 {
-        self.width
+        self.band.width
     }
 
     fn band_height(&self) -> u16 {
-        self.band_height
+        self.band.band_height
     }
 
     fn begin_band(&mut self, _y0: u16, rows: u16) {
-        self.rows = rows.clamp(1, self.band_height);
-        let n = self.width as usize * self.rows as usize;
-        self.empty_color.begin_band(self.depth, self.color, n);
+        self.rows = rows.clamp(1, self.band.band_height);
+        self.band.begin_band(self.rows);
         let tiles_y = self.rows.div_ceil(TILE_SIDE);
         for ty in 0..tiles_y {
             for tx in 0..self.tiles_x {
@@ -259,7 +245,7 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
         }
         let r0 = setup.y0.max(band_y0) - band_y0;
         let r1 = ((setup.y1 as u32).min(band_last) - band_y0 as u32) as u16;
-        let cols = (setup.x0, setup.x1.min(self.width - 1));
+        let cols = (setup.x0, setup.x1.min(self.band.width - 1));
         if self.reject_tiles(&setup, band_y0, cols, (r0, r1)) {
             rasterize(&setup, band_y0, rows, self, || (params.colors)(&setup));
         } else {
@@ -279,17 +265,8 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
             return;
         }
         self.stats.depth_tests += 1;
-        let p = row as usize * self.width as usize + x as usize;
-        let old = self.depth[p];
-        // Ties go to the later fragment, as in the plain z-buffer.
-        if fragment.mask == Mask1x1::FULL && fragment.z <= old {
-            if old != EMPTY_DEPTH {
-                self.stats.fragments_removed_hidden += 1;
-            }
-            self.depth[p] = fragment.z;
-            self.color[p] = fragment.color;
-            self.stats.fragments_stored += 1;
-            self.stats.max_fragments_in_pixel = 1;
+        let p = self.band.index(x, row);
+        if let Some(old) = self.band.test_and_store(p, fragment, &mut self.stats) {
             let tile = &mut self.tiles[t];
             if old == tile.far && fragment.z != old {
                 tile.far_pixels -= 1;
@@ -297,23 +274,19 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
                     self.refresh_tile(t, x >> TILE_SHIFT, row >> TILE_SHIFT);
                 }
             }
-        } else {
-            self.stats.fragments_hidden_on_arrival += 1;
         }
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        self.empty_color
-            .resolve_row(self.depth, self.color, self.width, row, background, out);
+        self.band.resolve_row(row, background, out);
     }
 
     fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        self.empty_color
-            .row_colors(self.color, self.width, row, background)
+        self.band.row_colors(row, background)
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
-        (self.depth[row as usize * self.width as usize + x as usize] != EMPTY_DEPTH) as u32
+        self.band.is_drawn(x, row) as u32
     }
 
     fn stats(&self) -> BufferStats {

@@ -51,7 +51,7 @@ use crate::raster::rasterize;
 use crate::setup::{signed_area2, ColorPlanes, Edge, Plane, Rejection, SetupVertex, TriangleSetup};
 use crate::shading::{PhongPlanes, QuadraticPolynomial};
 use crate::stats::BufferStats;
-use crate::zbuffer::{depth_test_and_store, EmptyColor, EMPTY_DEPTH};
+use crate::zbuffer::DepthColorBand;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// The deepest subdivision accepted (`3^6 = 729` pieces per triangle at most).
@@ -269,12 +269,8 @@ enum Verdict {
 
 /// A band of depths and colors, one per pixel, drawing triangles by midpoint subdivision.
 pub struct MidpointZBuffer<'a> {
-    width: u16,
-    band_height: u16,
+    band: DepthColorBand<'a>,
     rows: u16,
-    depth: &'a mut [u32],
-    color: &'a mut [Rgb888],
-    empty_color: EmptyColor,
     config: MidpointConfig,
     /// Set while a piece judged visible is written without tests.
     untested: bool,
@@ -298,17 +294,12 @@ impl<'a> MidpointZBuffer<'a> {
         color: &'a mut [Rgb888],
         config: MidpointConfig,
     ) -> Option<Self> {
-        let n = width as usize * band_height as usize;
-        if n == 0 || depth.len() != n || color.len() != n || !config.is_valid() {
+        if !config.is_valid() {
             return None;
         }
         Some(Self {
-            width,
-            band_height,
+            band: DepthColorBand::new(width, band_height, depth, color)?,
             rows: band_height,
-            depth,
-            color,
-            empty_color: EmptyColor::default(),
             config,
             untested: false,
             merge_agreeing_pieces: true,
@@ -337,17 +328,17 @@ impl<'a> MidpointZBuffer<'a> {
         for (slot, p) in index.iter_mut().zip(&points) {
             let (px, py) = (p.x >> SUBPIXEL_BITS, p.y >> SUBPIXEL_BITS);
             let row = py - band_y0 as i32;
-            if px < 0 || px >= self.width as i32 || row < 0 || row >= rows as i32 {
+            if px < 0 || px >= self.band.width as i32 || row < 0 || row >= rows as i32 {
                 // Not in the band: nothing to compare with.
                 return Verdict::Undecided;
             }
-            *slot = row as usize * self.width as usize + px as usize;
+            *slot = self.band.index(px as u16, row as u16);
         }
         let (mut nearer, mut farther) = (false, false);
         for (p, &i) in points.iter().zip(&index) {
             self.stats.culling_depth_tests += 1;
             // Ties go to the new surface, as in the per-pixel test.
-            if p.z <= self.depth[i] {
+            if p.z <= self.band.depth[i] {
                 nearer = true;
             } else {
                 farther = true;
@@ -720,17 +711,16 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
     const ORDER: TriangleOrder = TriangleOrder::FirstRow;
 
     fn width(&self) -> u16 {
-        self.width
+        self.band.width
     }
 
     fn band_height(&self) -> u16 {
-        self.band_height
+        self.band.band_height
     }
 
     fn begin_band(&mut self, _y0: u16, rows: u16) {
-        self.rows = rows.clamp(1, self.band_height);
-        let n = self.width as usize * self.rows as usize;
-        self.empty_color.begin_band(self.depth, self.color, n);
+        self.rows = rows.clamp(1, self.band.band_height);
+        self.band.begin_band(self.rows);
     }
 
     fn draw_triangle(
@@ -767,31 +757,29 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
     #[inline]
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<Mask1x1>) {
         self.stats.fragments_generated += 1;
-        let p = row as usize * self.width as usize + x as usize;
+        let p = self.band.index(x, row);
         if self.untested {
-            self.depth[p] = fragment.z;
-            self.color[p] = fragment.color;
+            self.band.depth[p] = fragment.z;
+            self.band.color[p] = fragment.color;
             self.stats.fragments_stored += 1;
             self.stats.untested_writes += 1;
             self.stats.max_fragments_in_pixel = 1;
             return;
         }
         self.stats.depth_tests += 1;
-        depth_test_and_store(self.depth, self.color, p, fragment, &mut self.stats);
+        self.band.test_and_store(p, fragment, &mut self.stats);
     }
 
     fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
-        self.empty_color
-            .resolve_row(self.depth, self.color, self.width, row, background, out);
+        self.band.resolve_row(row, background, out);
     }
 
     fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        self.empty_color
-            .row_colors(self.color, self.width, row, background)
+        self.band.row_colors(row, background)
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
-        (self.depth[row as usize * self.width as usize + x as usize] != EMPTY_DEPTH) as u32
+        self.band.is_drawn(x, row) as u32
     }
 
     fn stats(&self) -> BufferStats {
