@@ -1,10 +1,10 @@
 //! Shading modes through the whole renderer: quadratic against Gouraud with
 //! per-pixel Phong as the reference, band independence, degenerate input.
 
-use host_sim::builtins::{builtin_mesh, builtin_scene};
+use host_sim::builtins::{builtin_mesh, builtin_scene, BUILTIN_LIGHT};
 use host_sim::convert::to_fixed;
 use host_sim::render::{render, Method, RenderConfig, RenderOutput};
-use host_sim::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc, ShadingDesc};
+use host_sim::scene_desc::{CameraDesc, MeshData, ObjectDesc, SceneDesc, ShadingDesc};
 use host_sim::scene_file::load_scene_file;
 use host_sim::shading_compare::{compare_shading, ModeError};
 use std::path::Path;
@@ -12,16 +12,6 @@ use std::path::Path;
 fn sphere_scene() -> SceneDesc {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/scenes/sphere.toml");
     load_scene_file(&path).expect("the sphere scene loads")
-}
-
-fn light() -> LightDesc {
-    LightDesc {
-        direction: [0.4, 0.7, 1.0],
-        ambient: 0.15,
-        diffuse: 0.75,
-        specular: 0.4,
-        shininess: 24.0,
-    }
 }
 
 fn scene(objects: Vec<ObjectDesc>, eye: [f32; 3]) -> SceneDesc {
@@ -37,7 +27,7 @@ fn scene(objects: Vec<ObjectDesc>, eye: [f32; 3]) -> SceneDesc {
             near: 0.5,
             far: 20.0,
         },
-        light: Some(light()),
+        light: Some(BUILTIN_LIGHT),
         objects,
     }
 }

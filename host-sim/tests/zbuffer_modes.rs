@@ -2,12 +2,12 @@
 //! midpoint subdivision is exact where its test cannot be fooled, counters are
 //! deterministic, and the command line takes the subdivision options.
 
-use host_sim::builtins::{builtin_mesh, builtin_scene, BUILTIN_SCENES};
+use host_sim::builtins::{builtin_mesh, builtin_scene, BUILTIN_LIGHT, BUILTIN_SCENES};
 use host_sim::convert::{to_fixed, FixedScene};
 use host_sim::render::{
     render, render_frames, Method, MidpointSettings, RenderConfig, RenderOutput,
 };
-use host_sim::scene_desc::{CameraDesc, LightDesc, MeshData, ObjectDesc, SceneDesc, ShadingDesc};
+use host_sim::scene_desc::{CameraDesc, MeshData, ObjectDesc, SceneDesc, ShadingDesc};
 use host_sim::zbuffer_table::{differing_pixels, markdown_table, measure_table};
 
 fn run(scene: &FixedScene, method: Method, band: u16, midpoint: MidpointSettings) -> RenderOutput {
@@ -151,13 +151,7 @@ fn occluder_scene(width: u32, height: u32) -> SceneDesc {
             near: 0.5,
             far: 20.0,
         },
-        light: Some(LightDesc {
-            direction: [0.4, 0.7, 1.0],
-            ambient: 0.15,
-            diffuse: 0.75,
-            specular: 0.4,
-            shininess: 24.0,
-        }),
+        light: Some(BUILTIN_LIGHT),
         objects,
     }
 }

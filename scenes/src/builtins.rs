@@ -47,6 +47,16 @@ pub const BUILTIN_MESHES: &[&str] = &[
     "knot",
 ];
 
+/// The light of every built-in scene: from above, right and in front, with
+/// a moderate highlight.
+pub const BUILTIN_LIGHT: LightDesc = LightDesc {
+    direction: [0.4, 0.7, 1.0],
+    ambient: 0.15,
+    diffuse: 0.75,
+    specular: 0.4,
+    shininess: 24.0,
+};
+
 /// Teapot tessellation (segments per patch side) when none is given.
 pub const DEFAULT_TEAPOT_TESSELLATION: u32 = 8;
 
@@ -195,13 +205,7 @@ pub fn builtin_scene(name: &str, width: u32, height: u32) -> Option<SceneDesc> {
         height,
         background: [16, 18, 28],
         camera,
-        light: Some(LightDesc {
-            direction: [0.4, 0.7, 1.0],
-            ambient: 0.15,
-            diffuse: 0.75,
-            specular: 0.4,
-            shininess: 24.0,
-        }),
+        light: Some(BUILTIN_LIGHT),
         objects,
     })
 }
