@@ -207,6 +207,21 @@ impl Axis {
     }
 }
 
+/// The horizontal grid lines of the value axis `ya` from `x0` to `x1`, each
+/// labelled at its left.
+fn value_grid(out: &mut String, ya: &Axis, x0: f64, x1: f64) {
+    for t in ya.ticks() {
+        let y = ya.map(t);
+        let _ = writeln!(
+            out,
+            r##"<line x1="{x0}" y1="{y:.1}" x2="{x1}" y2="{y:.1}" stroke="#e4e4e4"/><text x="{}" y="{:.1}" text-anchor="end">{}</text>"##,
+            x0 - 6.0,
+            y + 4.0,
+            short_number(t)
+        );
+    }
+}
+
 fn svg_open(out: &mut String, width: f64, height: f64, title: &str) {
     let _ = writeln!(
         out,
@@ -241,16 +256,7 @@ impl LineChart {
                 short_number(t)
             );
         }
-        for t in ya.ticks() {
-            let y = ya.map(t);
-            let _ = writeln!(
-                out,
-                r##"<line x1="{x0}" y1="{y:.1}" x2="{x1}" y2="{y:.1}" stroke="#e4e4e4"/><text x="{}" y="{:.1}" text-anchor="end">{}</text>"##,
-                x0 - 6.0,
-                y + 4.0,
-                short_number(t)
-            );
-        }
+        value_grid(&mut out, &ya, x0, x1);
         let _ = writeln!(
             out,
             r#"<rect x="{x0}" y="{y1}" width="{}" height="{}" fill="none" stroke="black"/>"#,
@@ -384,16 +390,7 @@ pub fn bar_panels_svg(
             top - 8.0,
             esc(&panel.title)
         );
-        for t in ya.ticks() {
-            let y = ya.map(t);
-            let _ = writeln!(
-                out,
-                r##"<line x1="{x0}" y1="{y:.1}" x2="{x1}" y2="{y:.1}" stroke="#e4e4e4"/><text x="{}" y="{:.1}" text-anchor="end">{}</text>"##,
-                x0 - 6.0,
-                y + 4.0,
-                short_number(t)
-            );
-        }
+        value_grid(&mut out, &ya, x0, x1);
         let n = panel.values.len().max(1) as f64;
         let slot = (x1 - x0) / n;
         for (i, &v) in panel.values.iter().enumerate() {
