@@ -226,8 +226,14 @@ pub fn table_configs(band: u16, subdiv_max: u8) -> Vec<(String, RenderConfig)> {
     configs
 }
 
-/// Renders timed together in one measurement of [`measure_table`].
+/// Fewest renders timed together in one measurement of [`measure_table`].
 const RENDERS_PER_TIMING: u32 = 5;
+
+/// Least wall time one measurement of [`measure_table`] renders for: the
+/// system's processor-time clock may advance in steps of several
+/// milliseconds (4 ms on the 2-core test machine), so one measurement
+/// spans many steps and a frame's time is read to a few percent.
+const LEAST_TIME_PER_TIMING: Duration = Duration::from_millis(100);
 
 /// Processor time the calling thread has used, where the system reports it
 /// (Linux: `/proc/thread-self/schedstat`).
@@ -238,10 +244,11 @@ fn thread_cpu_time() -> Option<Duration> {
 }
 
 /// Times every configuration of [`table_configs`] `repeat` times (each time
-/// over a few renders), taking turns so that a busy machine slows all of them
-/// alike, and keeps the fastest time per frame of each: the processor time of
-/// the rendering thread where the system reports it (less disturbed by other
-/// work), else the wall time.
+/// over at least [`RENDERS_PER_TIMING`] renders and [`LEAST_TIME_PER_TIMING`]),
+/// taking turns so that a busy machine slows all of them alike, and keeps the
+/// fastest time per frame of each: the processor time of the rendering thread
+/// where the system reports it (less disturbed by other work), else the wall
+/// time.
 pub fn measure_table(
     scene: &FixedScene,
     band: u16,
@@ -254,11 +261,14 @@ pub fn measure_table(
     let mut fastest = vec![Duration::MAX; configs.len()];
     for _ in 0..repeat.max(1) {
         for (i, (label, config)) in configs.iter().enumerate() {
-            // Several renders per measurement: the system's processor-time
-            // clock may advance in steps of a few milliseconds.
+            // Several renders per measurement, for at least
+            // LEAST_TIME_PER_TIMING: the system's processor-time clock may
+            // advance in steps of a few milliseconds.
             let cpu_before = thread_cpu_time();
             let mut wall = Duration::ZERO;
-            for _ in 0..RENDERS_PER_TIMING {
+            let mut renders = 0u32;
+            while renders < RENDERS_PER_TIMING || wall < LEAST_TIME_PER_TIMING {
+                renders += 1;
                 let out = render(scene, config, angle)?;
                 wall += out.elapsed;
                 if let Some(prev) = &outputs[i] {
@@ -272,7 +282,7 @@ pub fn measure_table(
                 (Some(a), Some(b)) => b.saturating_sub(a),
                 _ => wall,
             };
-            fastest[i] = fastest[i].min(total / RENDERS_PER_TIMING);
+            fastest[i] = fastest[i].min(total / renders);
         }
     }
     let reference = outputs[0].as_ref().ok_or("no render")?.rgb.clone();
@@ -362,14 +372,15 @@ pub fn run_zbuffer_table(args: &ZbufferTableArgs, desc: SceneDesc) -> Result<(),
     let rows = measure_table(&scene, band, args.subdiv_max, args.repeat, args.angle)?;
     let mut text = format!(
         "Scene `{}`, {} triangles, {}x{}, bands of {} rows; time: processor time per frame, \
-         the fastest of {} timings of {RENDERS_PER_TIMING} renders; percentages against \
-         `zbuffer-hiz`.\n\n",
+         the fastest of {} timings of at least {RENDERS_PER_TIMING} renders and {} ms each; \
+         percentages against `zbuffer-hiz`.\n\n",
         args.scene,
         scene.triangle_count(),
         scene.width,
         scene.height,
         band,
-        args.repeat.max(1)
+        args.repeat.max(1),
+        LEAST_TIME_PER_TIMING.as_millis()
     );
     text.push_str(&markdown_table(&rows));
     print!("{text}");

@@ -85,9 +85,10 @@ pub fn shading_images() -> Result<(), String> {
 /// (one band for the whole frame, and bands of 16 rows) and on the teapot.
 ///
 /// Times are the host's processor time per frame, the fastest of `repeat`
-/// timings of 5 renders each, the configurations taking turns (the published
-/// tables use 9); the counters are exact and the same on every run. Takes
-/// about two minutes on a 2-core machine with `repeat` = 9.
+/// timings of at least 5 renders and 100 ms each, the configurations taking
+/// turns (the published tables use 9); the counters are exact and the same
+/// on every run. Takes about two minutes on a 2-core machine with
+/// `repeat` = 9.
 pub fn zbuffer_table(repeat: u32) -> Result<(), String> {
     let hs = host_sim_release()?;
     let repeat = repeat.to_string();
