@@ -270,7 +270,32 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// Exit status of a program whose output pipe was closed (128 + SIGPIPE),
+/// as a shell reports it.
+const BROKEN_PIPE_STATUS: i32 = 141;
+
+/// Ends the program quietly when the reader of its standard output goes
+/// away (`host-sim compare a.png b.png | head -1`), as a shell tool does,
+/// instead of with a panic: Rust ignores SIGPIPE, so `print!` to a closed
+/// pipe panics with "failed printing to stdout: Broken pipe".
+fn exit_quietly_on_closed_stdout() {
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info.payload();
+        let message = payload
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| payload.downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.starts_with("failed printing to stdout") && message.contains("Broken pipe") {
+            std::process::exit(BROKEN_PIPE_STATUS);
+        }
+        default_hook(info);
+    }));
+}
+
 fn main() -> ExitCode {
+    exit_quietly_on_closed_stdout();
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Render(args) => run_render(args),

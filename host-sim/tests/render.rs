@@ -320,3 +320,31 @@ fn command_line_renders_a_builtin_scene() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("built-in"));
 }
+
+/// A reader that closes the pipe before reading (`host-sim ... | head -1`)
+/// ends the program with the shell's status for a closed pipe, not a panic.
+#[test]
+fn a_closed_output_pipe_ends_the_program_quietly() {
+    let dir = abuffer_test_support::ScratchDir::new("host-sim-pipe");
+    let png = dir.join("a.png");
+    let made = std::process::Command::new(env!("CARGO_BIN_EXE_host-sim"))
+        .args([
+            "render", "--scene", "spheres", "--width", "16", "--height", "16",
+        ])
+        .arg("--out")
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(made.status.success());
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let compare = std::process::Command::new(env!("CARGO_BIN_EXE_host-sim"))
+        .arg("compare")
+        .args([&png, &png])
+        .stdout(writer)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&compare.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(compare.status.code(), Some(141), "{stderr}");
+}
