@@ -40,7 +40,8 @@ pub struct StatsArgs {
     /// Pool addresses per pixel (N_extra).
     #[arg(long, default_value_t = defaults::EXTRA_ADDRESSES)]
     pub extra: u8,
-    /// Shared pool slots per band (N_pool); default: the library's (512).
+    /// Shared pool slots per band (N_pool); default: the library's
+    /// (`memory::defaults::POOL_SLOTS`).
     #[arg(long)]
     pub pool: Option<usize>,
     /// Band height in rows (R).

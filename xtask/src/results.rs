@@ -156,9 +156,9 @@ pub fn zbuffer_table(repeat: u32) -> Result<(), String> {
 
 /// The image size of the results.
 const SIZE: [&str; 4] = ["--width", "240", "--height", "240"];
-/// The tables in `docs/results.md` were measured with 16-row bands (the
-/// library's default is 8): the band is given explicitly wherever it changes a
-/// figure.
+/// The tables in `docs/results.md` were measured with 16-row bands, not the
+/// library's default (`memory::defaults::BAND_ROWS`): the band is given
+/// explicitly wherever it changes a figure.
 const BAND: [&str; 2] = ["--band", "16"];
 /// The three test objects.
 const OBJECTS: [&str; 3] = ["starfighter", "teapot:24", "knot"];
