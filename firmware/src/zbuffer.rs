@@ -85,18 +85,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         // Only what is stored and what is hidden are counted here; the
         // fragments and depth tests are their sum (see `stats`).
         let p = self.band.index(x, row);
-        let (Some(depth), Some(color)) = (self.band.depth.get_mut(p), self.band.color.get_mut(p))
-        else {
-            return;
-        };
-        if fragment.mask == Mask1x1::FULL && fragment.z <= *depth {
-            self.stats.fragments_removed_hidden += (*depth != EMPTY_DEPTH) as u32;
-            *depth = fragment.z;
-            *color = fragment.color;
-            self.stats.fragments_stored += 1;
-        } else {
-            self.stats.fragments_hidden_on_arrival += 1;
-        }
+        self.band.test_and_store(p, fragment, &mut self.stats);
     }
 
     /// One depth test and store per pixel, the run's slices checked once;
@@ -157,8 +146,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         BufferStats {
             fragments_generated: fragments,
             depth_tests: fragments,
-            max_fragments_in_pixel: (self.stats.fragments_stored > 0) as u32,
-            ..self.stats
+            ..with_most_in_a_pixel(self.stats)
         }
     }
 
@@ -171,6 +159,15 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         let stats = self.stats();
         self.stats = BufferStats::default();
         stats
+    }
+}
+
+/// `stats` of a buffer with one fragment a pixel at most, with the most
+/// fragments a pixel held derived from it: one, once anything was stored.
+pub(crate) fn with_most_in_a_pixel(stats: BufferStats) -> BufferStats {
+    BufferStats {
+        max_fragments_in_pixel: (stats.fragments_stored > 0) as u32,
+        ..stats
     }
 }
 
@@ -248,7 +245,7 @@ impl<'a> DepthColorBand<'a> {
     /// The plain depth test of pixel `p` (ties go to the later fragment, as
     /// in the A-buffer's visibility masks), storing the fragment when it
     /// passes and counting it in `stats`; the depth it replaced, when it
-    /// passes.
+    /// passes. A pixel outside the band is neither stored nor counted.
     #[inline]
     pub(crate) fn test_and_store(
         &mut self,
@@ -256,15 +253,15 @@ impl<'a> DepthColorBand<'a> {
         fragment: &Fragment<Mask1x1>,
         stats: &mut BufferStats,
     ) -> Option<u32> {
-        let old = self.depth[p];
+        let (Some(depth), Some(color)) = (self.depth.get_mut(p), self.color.get_mut(p)) else {
+            return None;
+        };
+        let old = *depth;
         if fragment.mask == Mask1x1::FULL && fragment.z <= old {
-            if old != EMPTY_DEPTH {
-                stats.fragments_removed_hidden += 1;
-            }
-            self.depth[p] = fragment.z;
-            self.color[p] = fragment.color;
+            stats.fragments_removed_hidden += (old != EMPTY_DEPTH) as u32;
+            *depth = fragment.z;
+            *color = fragment.color;
             stats.fragments_stored += 1;
-            stats.max_fragments_in_pixel = 1;
             Some(old)
         } else {
             stats.fragments_hidden_on_arrival += 1;

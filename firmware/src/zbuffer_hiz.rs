@@ -27,7 +27,7 @@ use crate::fragment::Fragment;
 use crate::raster::rasterize;
 use crate::setup::{Rejection, SetupVertex, TriangleSetup};
 use crate::stats::BufferStats;
-use crate::zbuffer::{DepthColorBand, EMPTY_DEPTH};
+use crate::zbuffer::{with_most_in_a_pixel, DepthColorBand, EMPTY_DEPTH};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// log2 of the tile side.
@@ -290,11 +290,11 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
     }
 
     fn stats(&self) -> BufferStats {
-        self.stats
+        with_most_in_a_pixel(self.stats)
     }
 
     fn take_stats(&mut self) -> BufferStats {
-        core::mem::take(&mut self.stats)
+        with_most_in_a_pixel(core::mem::take(&mut self.stats))
     }
 }
 

@@ -51,7 +51,7 @@ use crate::raster::rasterize;
 use crate::setup::{signed_area2, ColorPlanes, Edge, Plane, Rejection, SetupVertex, TriangleSetup};
 use crate::shading::{PhongPlanes, QuadraticPolynomial};
 use crate::stats::BufferStats;
-use crate::zbuffer::DepthColorBand;
+use crate::zbuffer::{with_most_in_a_pixel, DepthColorBand};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// The deepest subdivision accepted (`3^6 = 729` pieces per triangle at most).
@@ -763,7 +763,6 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
             self.band.color[p] = fragment.color;
             self.stats.fragments_stored += 1;
             self.stats.untested_writes += 1;
-            self.stats.max_fragments_in_pixel = 1;
             return;
         }
         self.stats.depth_tests += 1;
@@ -783,11 +782,11 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
     }
 
     fn stats(&self) -> BufferStats {
-        self.stats
+        with_most_in_a_pixel(self.stats)
     }
 
     fn take_stats(&mut self) -> BufferStats {
-        core::mem::take(&mut self.stats)
+        with_most_in_a_pixel(core::mem::take(&mut self.stats))
     }
 }
 
