@@ -108,12 +108,16 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         if end > self.band.depth.len() || !depth_in_range(run.depth) || !depth_in_range(last) {
             return insert_each(self, x, row, run, walk, color);
         }
-        let mut rounded = run.depth + PLANE_HALF_UNIT;
+        // The rounded plane shifted up so that a pixel's depth is the high
+        // word: the step is one add with carry, the depth no shift.
+        const UP: u32 = 32 - PLANE_EXTRA_BITS;
+        let mut rounded = ((run.depth + PLANE_HALF_UNIT) << UP) as u64;
+        let step = (run.depth_step << UP) as u64;
         let (mut stored, mut replaced) = (0u32, 0u32);
         let depths = &mut self.band.depth[start..end];
         let colors = &mut self.band.color[start..end];
         for (stored_depth, stored_color) in depths.iter_mut().zip(colors) {
-            let z = (rounded >> PLANE_EXTRA_BITS) as u32;
+            let z = (rounded >> 32) as u32;
             if z <= *stored_depth {
                 replaced += (*stored_depth != EMPTY_DEPTH) as u32;
                 stored += 1;
@@ -121,7 +125,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
                 *stored_color = walk.color(color);
             }
             walk.step(color);
-            rounded += run.depth_step;
+            rounded = rounded.wrapping_add(step);
         }
         self.stats.fragments_stored += stored;
         self.stats.fragments_removed_hidden += replaced;
