@@ -388,6 +388,11 @@ mod tests {
             (-(1 << 20), 1 << 28),
             (max - (1 << 20), 1 << 19),
             (max, -(1 << 10)),
+            // Steps with fraction bits: carries from the fraction into the
+            // depth at irregular pixels, up and down.
+            (max / 3 + 12_345, 98_765),
+            (max / 2 + 777, -54_321),
+            (max / 4 + (1 << 15) - 1, (3 << 16) + 1),
             // Exactly the stored depth of row 1's pixel 3 (a tie).
             ((pattern_depth(WIDTH as usize + 3) as i64) << 16, 0),
         ] {
