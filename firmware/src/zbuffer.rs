@@ -90,7 +90,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
 
     /// One depth test and store per pixel, the run's slices checked once;
     /// where the run's depths are in range (nearly always), a pixel's depth
-    /// is the rounded plane shifted down, with no clamp.
+    /// is the high word of the rounded plane shifted up, with no clamp.
     #[inline(always)]
     fn insert_full_run<W: ColorWalk>(
         &mut self,
@@ -109,7 +109,9 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
             return insert_each(self, x, row, run, walk, color);
         }
         // The rounded plane shifted up so that a pixel's depth is the high
-        // word: the step is one add with carry, the depth no shift.
+        // word: the step is one add with carry, the depth no shift. Both
+        // ends are in range and the plane is linear, so every value of the
+        // run lies in `0 .. 2^56`: the wrapping sum holds it exactly.
         const UP: u32 = 32 - PLANE_EXTRA_BITS;
         let mut rounded = ((run.depth + PLANE_HALF_UNIT) << UP) as u64;
         let step = (run.depth_step << UP) as u64;
