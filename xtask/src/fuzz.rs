@@ -18,7 +18,8 @@
 //! (`fuzz/target/<host>/release/`), and `cargo +nightly fuzz run -s none
 //! TARGET` works on the same workspace for longer sessions.
 
-use crate::run::{cargo, describe, output, program, repo_root, scratch_dir, status};
+use crate::run::{cargo, describe, output, program, repo_root, scratch_dir};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Arguments of `cargo xtask fuzz`.
 #[derive(clap::Args, Debug)]
@@ -80,8 +81,20 @@ pub fn targets() -> Result<Vec<String>, String> {
     Ok(names)
 }
 
-/// Runs `cargo xtask fuzz`.
+/// Runs `cargo xtask fuzz`, printing what [`report`] returns.
 pub fn run(args: &FuzzArgs) -> Result<(), String> {
+    for line in report(args)? {
+        println!("{line}");
+    }
+    Ok(())
+}
+
+/// Builds the fuzz targets and runs each for `args.seconds`, as many at a
+/// time as the machine has cores (each libFuzzer process uses one). Prints
+/// nothing, so that it can run beside other work: returns the lines to show
+/// (the build's command and warnings, one line per target, in the order of
+/// `fuzz/Cargo.toml`), or the first failure with the fuzzer's last lines.
+pub fn report(args: &FuzzArgs) -> Result<Vec<String>, String> {
     // The toolchain of `rust-toolchain.toml` (run from the repository's root).
     let version = output(program("rustc").arg("-vV"))?;
     let host = version
@@ -95,61 +108,112 @@ pub fn run(args: &FuzzArgs) -> Result<(), String> {
         args.targets.clone()
     };
     // The fuzz workspace keeps its own target folder (fuzz/target).
-    status(
-        cargo()
-            .env_remove("CARGO_TARGET_DIR")
-            .env("RUSTFLAGS", rustflags(&host))
-            .args([
-                "build",
-                "--manifest-path",
-                "fuzz/Cargo.toml",
-                "--target",
-                &host,
-            ])
-            .args([
-                "--release",
-                "--config",
-                "profile.release.debug=\"line-tables-only\"",
-            ])
-            .args(["--bins", "--quiet"]),
-    )?;
-    let scratch = scratch_dir("fuzz")?;
-    for target in &targets {
-        let corpus = scratch.path().join(target);
-        let artifacts = format!("fuzz/artifacts/{target}/");
-        crate::run::create_dir(&corpus)?;
-        crate::run::create_dir(&repo_root().join(&artifacts))?;
-        let mut fuzzer = program(repo_root().join(format!("fuzz/target/{host}/release/{target}")));
-        fuzzer
-            .arg(format!("-artifact_prefix={artifacts}"))
-            .arg(&corpus)
-            .arg(format!("fuzz/corpus/{target}"))
-            .arg(format!("-max_total_time={}", args.seconds))
-            .arg("-print_final_stats=1");
-        if let Some(seed) = args.seed {
-            fuzzer.arg(format!("-seed={seed}"));
-        }
-        let run = fuzzer
-            .output()
-            .map_err(|e| format!("`{}` did not start: {e}", describe(&fuzzer)))?;
-        // libFuzzer reports on its standard error.
-        let log = String::from_utf8_lossy(&run.stderr);
-        if !run.status.success() {
-            let lines: Vec<&str> = log.lines().collect();
-            for line in &lines[lines.len().saturating_sub(80)..] {
-                eprintln!("{line}");
-            }
-            return Err(format!(
-                "fuzz target {target} failed ({}); the input is in {artifacts}",
-                run.status
-            ));
-        }
-        let runs = log
-            .lines()
-            .find_map(|l| l.strip_prefix("stat::number_of_executed_units:"))
-            .map(str::trim)
-            .unwrap_or("?");
-        println!("{target}: {runs} inputs in {} s, no failure", args.seconds);
+    let mut build = cargo();
+    build
+        .env_remove("CARGO_TARGET_DIR")
+        .env("RUSTFLAGS", rustflags(&host))
+        .args([
+            "build",
+            "--manifest-path",
+            "fuzz/Cargo.toml",
+            "--target",
+            &host,
+        ])
+        .args([
+            "--release",
+            "--config",
+            "profile.release.debug=\"line-tables-only\"",
+        ])
+        .args(["--bins", "--quiet"]);
+    let mut lines = vec![format!("$ {}", describe(&build))];
+    let built = build
+        .output()
+        .map_err(|e| format!("`{}` did not start: {e}", describe(&build)))?;
+    let warnings = String::from_utf8_lossy(&built.stderr);
+    if !built.status.success() {
+        return Err(format!(
+            "`{}` failed ({}):\n{warnings}",
+            describe(&build),
+            built.status
+        ));
     }
-    Ok(())
+    lines.extend(warnings.lines().map(String::from));
+    let scratch = scratch_dir("fuzz")?;
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let next = AtomicUsize::new(0);
+    // Each worker takes the next target not yet taken.
+    let mut outcomes: Vec<(usize, Result<String, String>)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers.min(targets.len()))
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let k = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(target) = targets.get(k) else {
+                            return done;
+                        };
+                        let corpus = scratch.path().join(target);
+                        done.push((k, run_target(&host, target, args, &corpus)));
+                    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| vec![(usize::MAX, Err("a fuzz worker panicked".into()))])
+            })
+            .collect()
+    });
+    outcomes.sort_by_key(|(k, _)| *k);
+    for (_, outcome) in outcomes {
+        lines.push(outcome?);
+    }
+    Ok(lines)
+}
+
+/// Runs one fuzz target for `args.seconds` with the new inputs in `corpus`:
+/// its line of the report, or its failure with the fuzzer's last 80 lines.
+fn run_target(
+    host: &str,
+    target: &str,
+    args: &FuzzArgs,
+    corpus: &std::path::Path,
+) -> Result<String, String> {
+    let artifacts = format!("fuzz/artifacts/{target}/");
+    crate::run::create_dir(corpus)?;
+    crate::run::create_dir(&repo_root().join(&artifacts))?;
+    let mut fuzzer = program(repo_root().join(format!("fuzz/target/{host}/release/{target}")));
+    fuzzer
+        .arg(format!("-artifact_prefix={artifacts}"))
+        .arg(corpus)
+        .arg(format!("fuzz/corpus/{target}"))
+        .arg(format!("-max_total_time={}", args.seconds))
+        .arg("-print_final_stats=1");
+    if let Some(seed) = args.seed {
+        fuzzer.arg(format!("-seed={seed}"));
+    }
+    let run = fuzzer
+        .output()
+        .map_err(|e| format!("`{}` did not start: {e}", describe(&fuzzer)))?;
+    // libFuzzer reports on its standard error.
+    let log = String::from_utf8_lossy(&run.stderr);
+    if !run.status.success() {
+        let lines: Vec<&str> = log.lines().collect();
+        return Err(format!(
+            "{}\nfuzz target {target} failed ({}); the input is in {artifacts}",
+            lines[lines.len().saturating_sub(80)..].join("\n"),
+            run.status
+        ));
+    }
+    let runs = log
+        .lines()
+        .find_map(|l| l.strip_prefix("stat::number_of_executed_units:"))
+        .map(str::trim)
+        .unwrap_or("?");
+    Ok(format!(
+        "{target}: {runs} inputs in {} s, no failure",
+        args.seconds
+    ))
 }

@@ -9,7 +9,8 @@
 //! instruction-count tests (Cortex-M4) and the SPI display screendump test
 //! (Cortex-M3), the board firmware's link check and the host test of its
 //! display path, the board's chip name and memory against probe-rs's target
-//! description, every fuzz target for a short time, and the main job (a
+//! description, every fuzz target for a short time (built and run beside the
+//! tests, which leave a core idle much of the time), and the main job (a
 //! built-in scene rendered to an image). Each step's heading shows the minutes
 //! and seconds since the start.
 
@@ -168,24 +169,40 @@ pub fn run() -> Result<(), String> {
         "build -p mcu-abuffer --release --target thumbv7em-none-eabihf --target thumbv6m-none-eabi",
     ))?;
 
-    steps.step("tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump, board link and display path)");
+    // The fuzz targets build (about two minutes of their own, with
+    // instrumentation) and run beside the tests: the QEMU tests leave a core
+    // idle while a firmware links or QEMU runs. Their report follows the tests'.
+    // A fixed seed: the same inputs on every machine, in the same order.
+    // Exploring new inputs is `cargo xtask fuzz --seconds N`.
+    let fuzz = std::thread::spawn(|| {
+        crate::fuzz::report(&crate::fuzz::FuzzArgs {
+            seconds: 10,
+            seed: Some(1),
+            targets: Vec::new(),
+        })
+    });
+
+    steps.step("tests (host, QEMU Cortex-M4 parity and counts, QEMU Cortex-M3 OLED screendump, board link and display path), the fuzz targets building alongside");
     // The firmware tests skip themselves when QEMU or a Cortex-M target is
     // missing; both were installed above, so a missing one must fail instead.
-    status(cargo_args("test --workspace").env("ABUFFER_REQUIRE_QEMU", "1"))?;
+    let tests = status(cargo_args("test --workspace").env("ABUFFER_REQUIRE_QEMU", "1"));
+    // Waited for even when the tests failed, so that no fuzzer outlives this command.
+    let fuzz = fuzz
+        .join()
+        .unwrap_or_else(|_| Err("the fuzz run panicked".into()));
+    tests?;
 
     steps.step("board: the runner's chip is one probe-rs knows, with memory.x's flash and RAM (probe-rs if installed, else the copy of its target description)");
     for line in crate::board_chip::check()? {
         println!("{line}");
     }
 
-    steps.step("fuzz: 10 s per target from the seed corpus with a fixed seed");
-    // A fixed seed: the same inputs on every machine, in the same order.
-    // Exploring new inputs is `cargo xtask fuzz --seconds N`.
-    crate::fuzz::run(&crate::fuzz::FuzzArgs {
-        seconds: 10,
-        seed: Some(1),
-        targets: Vec::new(),
-    })?;
+    steps.step(
+        "fuzz (run beside the tests): 10 s per target from the seed corpus with a fixed seed",
+    );
+    for line in fuzz? {
+        println!("{line}");
+    }
 
     steps.step("main job: render a built-in scene");
     // The README's first command, built with the test profile that the tests
