@@ -18,7 +18,7 @@
 //! (`fuzz/target/<host>/release/`), and `cargo +nightly fuzz run -s none
 //! TARGET` works on the same workspace for longer sessions.
 
-use crate::run::{cargo, describe, output, program, repo_root, scratch_dir};
+use crate::run::{captured, cargo, describe, output, program, repo_root, scratch_dir};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Arguments of `cargo xtask fuzz`.
@@ -126,18 +126,13 @@ pub fn report(args: &FuzzArgs) -> Result<Vec<String>, String> {
         ])
         .args(["--bins", "--quiet"]);
     let mut lines = vec![format!("$ {}", describe(&build))];
-    let built = build
-        .output()
-        .map_err(|e| format!("`{}` did not start: {e}", describe(&build)))?;
-    let warnings = String::from_utf8_lossy(&built.stderr);
-    if !built.status.success() {
-        return Err(format!(
-            "`{}` failed ({}):\n{warnings}",
-            describe(&build),
-            built.status
-        ));
-    }
-    lines.extend(warnings.lines().map(String::from));
+    // Captured, not streamed: cargo's warnings join the returned lines.
+    let built = captured(&mut build)?;
+    lines.extend(
+        String::from_utf8_lossy(&built.stderr)
+            .lines()
+            .map(String::from),
+    );
     let scratch = scratch_dir("fuzz")?;
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
     let next = AtomicUsize::new(0);

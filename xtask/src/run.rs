@@ -54,11 +54,17 @@ pub fn status(command: &mut Command) -> Result<(), String> {
 /// Runs `command` quietly and returns its standard output; on failure the
 /// error carries its standard error.
 pub fn output(command: &mut Command) -> Result<String, String> {
+    captured(command).map(|out| String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// Runs `command` quietly and returns both its outputs; on failure the
+/// error carries its standard error.
+pub fn captured(command: &mut Command) -> Result<std::process::Output, String> {
     let out = command
         .output()
         .map_err(|e| format!("`{}` did not start: {e}", describe(command)))?;
     if out.status.success() {
-        Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+        Ok(out)
     } else {
         Err(format!(
             "`{}` failed ({}):\n{}",
