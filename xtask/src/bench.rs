@@ -2,7 +2,7 @@
 //! `mps2-an386`, `-icount shift=0`) for each method, from the firmware's own
 //! SysTick counts.
 
-use crate::firmware::{build_m4, decode_defmt, run_m4, FirmwareConfig};
+use crate::firmware::{build_m4, build_m4_with_debug_info, decode_defmt, run_m4, FirmwareConfig};
 use mcu_abuffer::memory::defaults;
 use std::fmt::Write as _;
 use std::time::Duration;
@@ -140,7 +140,7 @@ pub fn profile() -> Result<(), String> {
             ..FirmwareConfig::for_method(method)
         };
         let elf = scratch.path().join(format!("{method}.elf"));
-        build_m4(&config, &[], &elf)?;
+        build_m4_with_debug_info(&config, &elf)?;
         let listing = output(
             program("python3")
                 .arg("scripts/qemu-profile.py")

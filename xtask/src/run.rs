@@ -22,19 +22,32 @@ pub fn program(name: impl AsRef<std::ffi::OsStr>) -> Command {
     command
 }
 
-/// The command line of `command`, for messages.
+/// The command line of `command`, for messages, with the variables it sets in
+/// front, as a shell takes them.
 pub fn describe(command: &Command) -> String {
-    let mut text = command.get_program().to_string_lossy().into_owned();
-    for arg in command.get_args() {
-        let arg = arg.to_string_lossy();
-        if arg.is_empty() || arg.contains([' ', '"', '\'']) {
-            text.push_str(&format!(" '{arg}'"));
-        } else {
-            text.push(' ');
-            text.push_str(&arg);
+    let mut words = Vec::new();
+    for (key, value) in command.get_envs() {
+        if let Some(value) = value {
+            let value = shell_word(&value.to_string_lossy());
+            words.push(format!("{}={value}", key.to_string_lossy()));
         }
     }
-    text
+    words.push(shell_word(&command.get_program().to_string_lossy()));
+    words.extend(
+        command
+            .get_args()
+            .map(|arg| shell_word(&arg.to_string_lossy())),
+    );
+    words.join(" ")
+}
+
+/// `word` quoted when a shell would otherwise split it or lose it.
+fn shell_word(word: &str) -> String {
+    if word.is_empty() || word.contains([' ', '"', '\'']) {
+        format!("'{word}'")
+    } else {
+        word.to_string()
+    }
 }
 
 /// Runs `command` with the terminal as its input and output; an error when it
@@ -106,4 +119,23 @@ pub fn create_dir(dir: &Path) -> Result<(), String> {
 /// removed when dropped ([`abuffer_test_support::ScratchDir`]).
 pub fn scratch_dir(purpose: &str) -> Result<ScratchDir, String> {
     ScratchDir::try_new(&format!("xtask-{purpose}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_described_command_shows_its_variables_and_quotes_spaced_words() {
+        let mut command = Command::new("cargo");
+        command
+            .env("CARGO_PROFILE_RELEASE_DEBUG", "0")
+            .env("RUSTFLAGS", "-C debuginfo=0")
+            .env_remove("CARGO_TARGET_DIR")
+            .args(["build", "--config", "a b", ""]);
+        assert_eq!(
+            describe(&command),
+            "CARGO_PROFILE_RELEASE_DEBUG=0 RUSTFLAGS='-C debuginfo=0' cargo build --config 'a b' ''"
+        );
+    }
 }

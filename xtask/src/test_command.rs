@@ -14,6 +14,7 @@
 //! built-in scene rendered to an image). Each step's heading shows the minutes
 //! and seconds since the start.
 
+use crate::firmware::NO_DEBUG_INFO;
 use crate::run::{cargo, installed, output, repo_root, status};
 use std::process::Command;
 use std::time::Instant;
@@ -139,10 +140,15 @@ pub fn run() -> Result<(), String> {
     status(&mut cargo_args(
         "clippy --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --all-targets -- -D warnings",
     ))?;
-    // The minimal example firmware (README, "Add it to your firmware") links for the board.
-    status(&mut cargo_args(
-        "build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal",
-    ))?;
+    // The minimal example firmware (README, "Add it to your firmware") links for
+    // the board. Without debug information, like the board build of the tests,
+    // which then reuses what this one compiled.
+    status(
+        cargo_args(
+            "build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal",
+        )
+        .env(NO_DEBUG_INFO.0, NO_DEBUG_INFO.1),
+    )?;
 
     steps.step("the library's documentation builds without warnings (broken links included)");
     status(cargo_args("doc -p mcu-abuffer --no-deps").env("RUSTDOCFLAGS", "-D warnings"))?;
@@ -165,9 +171,12 @@ pub fn run() -> Result<(), String> {
     steps.step("library for Cortex-M4F and Cortex-M0+");
     // One cargo for both targets: it builds them side by side (the release
     // profile's single codegen unit keeps each on one core).
-    status(&mut cargo_args(
-        "build -p mcu-abuffer --release --target thumbv7em-none-eabihf --target thumbv6m-none-eabi",
-    ))?;
+    status(
+        cargo_args(
+            "build -p mcu-abuffer --release --target thumbv7em-none-eabihf --target thumbv6m-none-eabi",
+        )
+        .env(NO_DEBUG_INFO.0, NO_DEBUG_INFO.1),
+    )?;
 
     // The fuzz targets build (about two minutes of their own, with
     // instrumentation) and run beside the tests: the QEMU tests leave a core
