@@ -131,24 +131,19 @@ pub fn run() -> Result<(), String> {
     status(&mut cargo_args(
         "clippy --workspace --all-targets -- -D warnings",
     ))?;
-    status(&mut cargo_args(
+    // The firmware workspaces' release builds below and in the tests leave out
+    // the debug information (`firmware::DebugInfo`). So do their lints: the
+    // build scripts and procedural macros they compile are then the builds' too.
+    for args in [
         "clippy --manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings",
-    ))?;
-    status(&mut cargo_args(
         "clippy --manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi -- -D warnings",
-    ))?;
-    status(&mut cargo_args(
         "clippy --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --all-targets -- -D warnings",
-    ))?;
-    // The minimal example firmware (README, "Add it to your firmware") links for
-    // the board. Without debug information, like the board build of the tests,
-    // which then reuses what this one compiled.
-    status(
-        cargo_args(
-            "build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal",
-        )
-        .env(NO_DEBUG_INFO.0, NO_DEBUG_INFO.1),
-    )?;
+        // The minimal example firmware (README, "Add it to your firmware")
+        // links for the board; the tests' board builds reuse what it compiled.
+        "build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal",
+    ] {
+        status(cargo_args(args).env(NO_DEBUG_INFO.0, NO_DEBUG_INFO.1))?;
+    }
 
     steps.step("the library's documentation builds without warnings (broken links included)");
     status(cargo_args("doc -p mcu-abuffer --no-deps").env("RUSTDOCFLAGS", "-D warnings"))?;
