@@ -165,7 +165,8 @@ pub fn run() -> Result<(), String> {
 
     steps.step("library for Cortex-M4F and Cortex-M0+");
     // One cargo for both targets: it builds them side by side (the release
-    // profile's single codegen unit keeps each on one core).
+    // profile's single codegen unit keeps each on one core). Nothing reads
+    // their debug information.
     status(
         cargo_args(
             "build -p mcu-abuffer --release --target thumbv7em-none-eabihf --target thumbv6m-none-eabi",
