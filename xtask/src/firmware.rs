@@ -10,10 +10,6 @@ use std::process::{Command, Stdio};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-/// The variable and value with which a release build leaves its debug information
-/// out ([`DebugInfo::Dropped`]).
-pub const NO_DEBUG_INFO: (&str, &str) = ("CARGO_PROFILE_RELEASE_DEBUG", "0");
-
 /// Builds of the one firmware target folder must not overlap: a build replaces the
 /// ELF the previous one produced.
 static BUILD_LOCK: Mutex<()> = Mutex::new(());
@@ -148,6 +144,19 @@ pub enum DebugInfo {
     Dropped,
 }
 
+impl DebugInfo {
+    /// The variable that overrides the release profile's debug information.
+    const VARIABLE: &'static str = "CARGO_PROFILE_RELEASE_DEBUG";
+
+    /// Sets up `cargo` (a release build, or the lints of one) for this choice.
+    pub fn apply_to(self, cargo: &mut Command) -> &mut Command {
+        match self {
+            Self::Kept => cargo.env_remove(Self::VARIABLE),
+            Self::Dropped => cargo.env(Self::VARIABLE, "0"),
+        }
+    }
+}
+
 /// Builds the M4 firmware for `config` and copies the ELF to `dest`, without debug
 /// information.
 ///
@@ -245,10 +254,7 @@ fn cargo_build_in<K: AsRef<std::ffi::OsStr>>(
     for (k, v) in env {
         cmd.env(k, v);
     }
-    match debug_info {
-        DebugInfo::Kept => cmd.env_remove(NO_DEBUG_INFO.0),
-        DebugInfo::Dropped => cmd.env(NO_DEBUG_INFO.0, NO_DEBUG_INFO.1),
-    };
+    debug_info.apply_to(&mut cmd);
     // Each firmware has its own target folder; keep outer settings out of it.
     cmd.env_remove("CARGO_TARGET_DIR")
         .env_remove("RUSTFLAGS")

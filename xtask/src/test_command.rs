@@ -14,7 +14,7 @@
 //! built-in scene rendered to an image). Each step's heading shows the minutes
 //! and seconds since the start.
 
-use crate::firmware::NO_DEBUG_INFO;
+use crate::firmware::DebugInfo;
 use crate::run::{cargo, installed, output, repo_root, status};
 use std::process::Command;
 use std::time::Instant;
@@ -142,7 +142,7 @@ pub fn run() -> Result<(), String> {
         // links for the board; the tests' board builds reuse what it compiled.
         "build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal",
     ] {
-        status(cargo_args(args).env(NO_DEBUG_INFO.0, NO_DEBUG_INFO.1))?;
+        status(DebugInfo::Dropped.apply_to(&mut cargo_args(args)))?;
     }
 
     steps.step("the library's documentation builds without warnings (broken links included)");
@@ -167,12 +167,9 @@ pub fn run() -> Result<(), String> {
     // One cargo for both targets: it builds them side by side (the release
     // profile's single codegen unit keeps each on one core). Nothing reads
     // their debug information.
-    status(
-        cargo_args(
-            "build -p mcu-abuffer --release --target thumbv7em-none-eabihf --target thumbv6m-none-eabi",
-        )
-        .env(NO_DEBUG_INFO.0, NO_DEBUG_INFO.1),
-    )?;
+    status(DebugInfo::Dropped.apply_to(&mut cargo_args(
+        "build -p mcu-abuffer --release --target thumbv7em-none-eabihf --target thumbv6m-none-eabi",
+    )))?;
 
     // The fuzz targets build (about two minutes of their own, with
     // instrumentation) and run beside the tests: the QEMU tests leave a core
