@@ -32,7 +32,7 @@
 //! found last: the next band asks in about the order this one kept.
 
 use crate::setup::{ColorPlanes, Plane};
-use crate::shading::{QuadraticPolynomial, NARROW_QUADRATIC_DROPPED_BITS};
+use crate::shading::quadratic::{QuadraticPolynomial, NARROW_QUADRATIC_DROPPED_BITS};
 
 /// The key of an entry holding no triangle. Zero, so that a table of empty
 /// entries is all zeros and a `static` one takes no flash for its image.

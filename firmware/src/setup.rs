@@ -18,10 +18,12 @@ use crate::coverage::CoverageMask;
 use crate::fixed_point::{saturate, Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::GRADIENT_LIMIT;
 use crate::lighting::{clamp_q8, ColorQ8};
-use crate::shading::{
-    fit_quadratic_over, light_midpoints, normal_planes, samples_are_planar, walks_in_i32,
-    PhongPlanes, QuadraticPolynomial, QuadraticSamples, TriangleLighting,
+use crate::shading::phong::{normal_planes, PhongPlanes};
+use crate::shading::quadratic::{
+    fit_quadratic_over, light_midpoints, samples_are_planar, walks_in_i32, QuadraticPolynomial,
+    QuadraticSamples,
 };
+use crate::shading::TriangleLighting;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// A vertex in window coordinates, ready for setup.
@@ -87,7 +89,7 @@ pub struct Edge {
 ///   differences cannot be of opposite signs at full size, so the value stays
 ///   below 2^62.6, the worst case being a sliver of area 1/512 pixel across the
 ///   whole guard band;
-/// - Phong normals: see [`crate::shading::NORMAL_PLANE_BITS`] and its limits.
+/// - Phong normals: see [`crate::shading::phong::NORMAL_PLANE_BITS`] and its limits.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Plane {
     /// Value at the center of the bounding box's first pixel.
@@ -105,9 +107,9 @@ pub enum ColorPlanes {
     Constant(Rgb888),
     /// One plane per channel, values with 16 fraction bits.
     Linear([Plane; 3]),
-    /// One lattice polynomial per channel ([`crate::shading::QUADRATIC_FRACTION_BITS`]).
+    /// One lattice polynomial per channel ([`crate::shading::quadratic::QUADRATIC_FRACTION_BITS`]).
     Quadratic([QuadraticPolynomial; 3]),
-    /// Quadratic polynomials that [`crate::shading::walks_in_i32`]: the same
+    /// Quadratic polynomials that [`crate::shading::quadratic::walks_in_i32`]: the same
     /// colors as [`ColorPlanes::Quadratic`] with these polynomials, stepped in
     /// half the registers.
     NarrowQuadratic([QuadraticPolynomial; 3]),

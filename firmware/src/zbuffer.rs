@@ -314,7 +314,7 @@ mod tests {
     use crate::band_buffer::insert_each;
     use crate::fixed_point::DEPTH_MAX;
     use crate::setup::Plane;
-    use crate::shading::LinearWalk;
+    use crate::shading::linear::LinearWalk;
 
     const WIDTH: u16 = 16;
     const ROWS: u16 = 2;

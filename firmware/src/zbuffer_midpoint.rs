@@ -49,7 +49,8 @@ use crate::fixed_point::{GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::Fragment;
 use crate::raster::rasterize;
 use crate::setup::{signed_area2, ColorPlanes, Edge, Plane, Rejection, SetupVertex, TriangleSetup};
-use crate::shading::{PhongPlanes, QuadraticPolynomial};
+use crate::shading::phong::PhongPlanes;
+use crate::shading::quadratic::QuadraticPolynomial;
 use crate::stats::BufferStats;
 use crate::zbuffer::{with_most_in_a_pixel, DepthColorBand};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -996,7 +997,8 @@ mod tests {
 
     #[test]
     fn shifted_planes_give_the_same_values_at_the_same_pixels() {
-        use crate::shading::{ColorWalk, QuadraticWalk};
+        use crate::shading::quadratic::QuadraticWalk;
+        use crate::shading::ColorWalk;
         let mut rng = Rng(0x5eed);
         for _ in 0..200 {
             let mut c = || rng.below(1 << 20) as i64 - (1 << 19);

@@ -1,0 +1,424 @@
+//! The quadratic through six samples, as a lattice polynomial.
+
+use super::{is_narrow_box, BARYCENTRIC_BITS, NARROW_QUADRATIC_DROPPED_BITS};
+use crate::fixed_point::{Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
+use crate::lighting::{clamp_q8, ColorQ8, COLOR_Q8_MAX};
+
+/// Bound on `|s0| + |su| + |sv|` (and `t`) for the quadratic fit (2^10 in value).
+const BARYCENTRIC_LIMIT: i64 = 1 << 30;
+
+/// Bound on `|s0| + |su| + |sv|` (and `t`) under which the fit's monomials
+/// fit `i32` (2^5 in value).
+pub(super) const SMALL_BARYCENTRIC_LIMIT: i64 = 1 << 25;
+
+/// The six samples of a quadratic fit, Q8 colors.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct QuadraticSamples {
+    /// At vertices 0, 1, 2.
+    pub vertices: [ColorQ8; 3],
+    /// At the midpoints of edges 0-1, 1-2 and 2-0.
+    pub midpoints: [ColorQ8; 3],
+}
+
+impl QuadraticSamples {
+    /// The samples clamped to `[0, 255]` (Q8).
+    pub fn clamped(&self) -> Self {
+        let clamp = |c: &[ColorQ8; 3]| c.map(clamp_q8);
+        Self {
+            vertices: clamp(&self.vertices),
+            midpoints: clamp(&self.midpoints),
+        }
+    }
+
+    /// Whether every sample is within `[0, 255]` (Q8), as [`ColorQ8`]
+    /// promises.
+    pub fn in_range(&self) -> bool {
+        self.vertices
+            .iter()
+            .chain(&self.midpoints)
+            .flatten()
+            .all(|&c| (0..=COLOR_Q8_MAX).contains(&c))
+    }
+}
+
+/// One channel over the pixel lattice of a bounding box:
+/// `Q(i, j) = a i² + b j² + c i j + d i + e j + f`, in units of
+/// `2^-QUADRATIC_FRACTION_BITS` of an 8-bit step, `(i, j)` the pixel offset from
+/// the box's first pixel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct QuadraticPolynomial {
+    /// Coefficient of `i²`.
+    pub a: i64,
+    /// Coefficient of `j²`.
+    pub b: i64,
+    /// Coefficient of `i j`.
+    pub c: i64,
+    /// Coefficient of `i`.
+    pub d: i64,
+    /// Coefficient of `j`.
+    pub e: i64,
+    /// Value at the first pixel.
+    pub f: i64,
+}
+
+impl QuadraticPolynomial {
+    /// The zero polynomial.
+    pub const ZERO: Self = Self {
+        a: 0,
+        b: 0,
+        c: 0,
+        d: 0,
+        e: 0,
+        f: 0,
+    };
+
+    /// The coefficients `[a, b, c, d, e, f]`.
+    #[inline(always)]
+    pub fn coefficients(&self) -> [i64; 6] {
+        [self.a, self.b, self.c, self.d, self.e, self.f]
+    }
+
+    /// The polynomial with coefficients `[a, b, c, d, e, f]`.
+    #[inline(always)]
+    pub fn from_coefficients([a, b, c, d, e, f]: [i64; 6]) -> Self {
+        Self { a, b, c, d, e, f }
+    }
+
+    /// The polynomial evaluated directly at lattice point `(i, j)` (128-bit
+    /// products; the result fits `i64` within the walked box).
+    pub fn eval(&self, i: i64, j: i64) -> i64 {
+        let (i, j) = (i as i128, j as i128);
+        let v = self.a as i128 * i * i
+            + self.b as i128 * j * j
+            + self.c as i128 * i * j
+            + self.d as i128 * i
+            + self.e as i128 * j
+            + self.f as i128;
+        v as i64
+    }
+}
+
+/// `x y + z w` from Q20 factors, rounded back to Q20. Every factor is below
+/// 2^31 in magnitude (the fit checks `|s0| + |su| + |sv| < 2^30` first), so each
+/// product is one 32 x 32-bit multiplication.
+#[inline]
+fn mul2_q20(x: i64, y: i64, z: i64, w: i64) -> i64 {
+    let wide = |a: i64| a as i32 as i64;
+    (wide(x) * wide(y) + wide(z) * wide(w) + (1 << (BARYCENTRIC_BITS - 1))) >> BARYCENTRIC_BITS
+}
+
+/// Bits needed for `n >= 1`: the smallest `p` with `2^p > n`.
+#[inline]
+fn bits_above(n: i64) -> u32 {
+    64 - (n as u64).leading_zeros()
+}
+
+/// Fits the quadratic through `samples` on a triangle with vertices `xs`, `ys`
+/// (1/16 pixel, within the guard band) over the lattice of the bounding box
+/// whose first pixel is `origin` (pixels) and which is `size` pixels
+/// (columns, rows) large, one polynomial per channel.
+///
+/// `None` for a zero-area triangle, an empty box, or a sliver whose barycentric
+/// coordinates over the box exceed the range above (use linear planes then);
+/// also for input outside the ranges above (vertices beyond the guard band, a
+/// box beyond 4096 pixels). Samples are clamped to `[0, 255]` (Q8) first.
+pub fn fit_quadratic(
+    xs: &[i64; 3],
+    ys: &[i64; 3],
+    origin: (i64, i64),
+    size: (i64, i64),
+    samples: &QuadraticSamples,
+) -> Option<[QuadraticPolynomial; 3]> {
+    fit_quadratic_over(xs, ys, origin, size, &samples.clamped(), None)
+}
+
+/// [`fit_quadratic`], with the reciprocal of twice the triangle's area when
+/// the caller has it already: `Reciprocal::new` of twice the area of the
+/// corners before they were clamped to the guard band (setup's), used
+/// where no corner lies on the guard band's edge (where none was clamped).
+/// The samples must be within `[0, 255]` (Q8) already
+/// ([`QuadraticSamples::in_range`]): color setup clamps the vertex colors
+/// it is given, and the midpoints' lighting and means stay within them.
+#[inline(always)]
+pub(crate) fn fit_quadratic_over(
+    xs: &[i64; 3],
+    ys: &[i64; 3],
+    origin: (i64, i64),
+    size: (i64, i64),
+    samples: &QuadraticSamples,
+    area2: Option<Reciprocal>,
+) -> Option<[QuadraticPolynomial; 3]> {
+    debug_assert!(samples.in_range(), "samples out of range: {samples:?}");
+    let basis = FitBasis::new(xs, ys, origin, size, area2)?;
+    Some(if basis.monomials_fit_i32() {
+        fit_channels::<i32>(&basis, samples)
+    } else {
+        fit_channels::<i64>(&basis, samples)
+    })
+}
+
+/// What [`fit_quadratic`] shares between channels besides the monomials: the
+/// barycentric planes over the normalized box (`[value at the origin, change
+/// over u, change over v]`, Q20), the shift that takes each coefficient from
+/// the normalized box to pixel steps, and the low bits dropped on small boxes.
+pub(super) struct FitBasis {
+    s: [i64; 3],
+    t: [i64; 3],
+    /// The larger of `|s0| + |su| + |sv|` and the same sum for `t`.
+    pub(super) extent: i64,
+    shifts: [u32; 6],
+    drop: u32,
+}
+
+impl FitBasis {
+    /// The barycentric planes of the triangle `xs`, `ys` over the box at
+    /// `origin` of `size` pixels, as [`fit_quadratic`] takes them; `None`
+    /// where it returns `None`.
+    #[inline(always)]
+    pub(super) fn new(
+        xs: &[i64; 3],
+        ys: &[i64; 3],
+        origin: (i64, i64),
+        size: (i64, i64),
+        reciprocal: Option<Reciprocal>,
+    ) -> Option<Self> {
+        let guard = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
+        let box_limit = 4096;
+        let farthest = xs.iter().chain(ys).fold(0, |m, c| m.max(c.abs()));
+        if farthest > guard
+            || !(0..=box_limit).contains(&origin.0)
+            || !(0..=box_limit).contains(&origin.1)
+            || size.0 > box_limit
+            || size.1 > box_limit
+        {
+            return None;
+        }
+        let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
+        let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
+        let area2 = dx1 * dy2 - dx2 * dy1;
+        if area2 == 0 || size.0 < 1 || size.1 < 1 {
+            return None;
+        }
+        let sign = area2.signum();
+        let area2 = area2.abs();
+        let half = 1i64 << (SUBPIXEL_BITS - 1);
+        let u0 = (origin.0 << SUBPIXEL_BITS) + half - xs[0];
+        let v0 = (origin.1 << SUBPIXEL_BITS) + half - ys[0];
+        let p = bits_above(size.0);
+        let q = bits_above(size.1);
+        // s * area2 = (x - x0) dy2 - (y - y0) dx2 with x = 16 (x0 + u 2^p) + 8 ...;
+        // [value at the origin, change over u in [0, 1], change over v in [0, 1]].
+        // One reciprocal of the area for the six plane coefficients.
+        // The caller's reciprocal is of the area of the corners before
+        // setup clamped them to the guard band: this area whenever no
+        // corner lies on the guard band's edge.
+        let reciprocal = match reciprocal {
+            Some(r) if farthest < guard => r,
+            _ => Reciprocal::new(area2 as u64),
+        };
+        let scale = SUBPIXEL_BITS + BARYCENTRIC_BITS;
+        let at = |n: i64, extra: u32| reciprocal.mul_div_round(sign * n, extra);
+        let (s0, su, sv) = (
+            at(u0 * dy2 - v0 * dx2, BARYCENTRIC_BITS),
+            at(dy2, scale + p),
+            at(-dx2, scale + q),
+        );
+        let (t0, tu, tv) = (
+            at(dx1 * v0 - dy1 * u0, BARYCENTRIC_BITS),
+            at(-dy1, scale + p),
+            at(dx1, scale + q),
+        );
+        let extent = (s0.abs() + su.abs() + sv.abs()).max(t0.abs() + tu.abs() + tv.abs());
+        if extent >= BARYCENTRIC_LIMIT {
+            return None;
+        }
+        Some(FitBasis {
+            s: [s0, su, sv],
+            t: [t0, tu, tv],
+            extent,
+            shifts: [2 * p, 2 * q, p + q, p, q, 0],
+            // Boxes up to NARROW_QUADRATIC_BOX get coefficients in multiples of
+            // 2^8, which an `i32` walk can hold (`walks_in_i32`).
+            drop: if is_narrow_box(size) {
+                NARROW_QUADRATIC_DROPPED_BITS
+            } else {
+                0
+            },
+        })
+    }
+
+    /// Whether every monomial mantissa fits `i32`: with both planes below
+    /// 2^25 over the box (barycentric coordinates below 32, nearly every
+    /// triangle) each is below 2^30 + 1, since `(|x| + |y|)^2 < 2^50` bounds
+    /// every product of two plane values and the mantissas drop 20 bits. The
+    /// weights then multiply them as 32 x 32-bit products, the same values
+    /// as the 32 x 64-bit ones.
+    #[inline(always)]
+    pub(super) fn monomials_fit_i32(&self) -> bool {
+        self.extent < SMALL_BARYCENTRIC_LIMIT
+    }
+}
+
+/// A monomial mantissa of the fit: `i64`, or `i32` when the planes are small
+/// enough for every mantissa to fit (then each product is one 32 x 32-bit
+/// multiplication).
+pub(super) trait Monomial: Copy {
+    /// The mantissa `v` (within this type's range).
+    fn from_mantissa(v: i64) -> Self;
+    /// `w m` for a weight `w` below 2^20.
+    fn weighted(self, w: i64) -> i64;
+}
+
+impl Monomial for i64 {
+    #[inline(always)]
+    fn from_mantissa(v: i64) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn weighted(self, w: i64) -> i64 {
+        w as i32 as i64 * self
+    }
+}
+
+impl Monomial for i32 {
+    #[inline(always)]
+    fn from_mantissa(v: i64) -> Self {
+        v as i32
+    }
+    #[inline(always)]
+    fn weighted(self, w: i64) -> i64 {
+        w as i32 as i64 * self as i64
+    }
+}
+
+/// The three channels' polynomials over `basis`: the monomials of `s²`, `t²`
+/// and `s t` (coefficients of `[u², v², uv, u, v, 1]`), then each channel's
+/// six coefficients. Straight-line code with no branch between the channels,
+/// so the compiler keeps each `i32` monomial's products 32 x 32-bit; out of
+/// line, one copy per monomial type, so neither copy's registers burden the
+/// caller's (0.2 M fewer instructions a teapot frame than inline).
+#[inline(never)]
+pub(super) fn fit_channels<T: Monomial>(
+    basis: &FitBasis,
+    samples: &QuadraticSamples,
+) -> [QuadraticPolynomial; 3] {
+    let [s0, su, sv] = basis.s;
+    let [t0, tu, tv] = basis.t;
+    // Monomials over the normalized box, coefficients of [u², v², uv, u, v, 1], Q20.
+    let m = |x: i64, y: i64| T::from_mantissa(mul2_q20(x, y, 0, 0));
+    let m2 = |x: i64, y: i64, z: i64, w: i64| T::from_mantissa(mul2_q20(x, y, z, w));
+    let ss = [
+        m(su, su),
+        m(sv, sv),
+        m(2 * su, sv),
+        m(2 * s0, su),
+        m(2 * s0, sv),
+        m(s0, s0),
+    ];
+    let tt = [
+        m(tu, tu),
+        m(tv, tv),
+        m(2 * tu, tv),
+        m(2 * t0, tu),
+        m(2 * t0, tv),
+        m(t0, t0),
+    ];
+    let st = [
+        m(su, tu),
+        m(sv, tv),
+        m2(su, tv, sv, tu),
+        m2(s0, tu, t0, su),
+        m2(s0, tv, t0, sv),
+        m(s0, t0),
+    ];
+    let monomials = &[ss, tt, st];
+    // Q8 weights times Q20 mantissas: Q28 over the normalized box; the powers
+    // of u = i / 2^p and v = j / 2^q become shifts by `n` (below 32). On a
+    // small box the coefficients are rounded to multiples of 2^8 (see
+    // `drop`): the value over 2^(n + drop) rounded to nearest (halves up),
+    // times 2^drop, with one shift (the quotient by 2^n, floored, then its
+    // low `drop` bits cleared).
+    // `n + drop` is at most 26 (boxes up to 4096 pixels, 2^8 dropped only
+    // up to 128): the halves fit 32 bits.
+    let half = |k: usize| ((1u32 << (basis.shifts[k] + basis.drop)) >> 1) as i64;
+    let halves = [half(0), half(1), half(2), half(3), half(4), half(5)];
+    let kept = !((1i64 << basis.drop) - 1);
+    let round = |v: i64, k: usize| ((v + halves[k]) >> (basis.shifts[k] & 31)) & kept;
+    let channel =
+        |ch: usize| fit_channel(&ChannelWeights::of(samples, ch), basis, monomials, &round);
+    [channel(0), channel(1), channel(2)]
+}
+
+/// One channel's polynomial from its weights and the shared monomials,
+/// coefficients rounded by `round` (the value and the coefficient's index).
+#[inline(always)]
+fn fit_channel<T: Monomial>(
+    w: &ChannelWeights,
+    basis: &FitBasis,
+    [ss, tt, st]: &[[T; 6]; 3],
+    round: &impl Fn(i64, usize) -> i64,
+) -> QuadraticPolynomial {
+    let [s0, su, sv] = basis.s;
+    let [t0, tu, tv] = basis.t;
+    // The weights fit 20 bits: 32 x 64-bit (or 32 x 32-bit) products with
+    // the monomials, 32 x 32-bit ones with the barycentric planes (below
+    // 2^30, checked in `FitBasis::new`).
+    #[inline(always)]
+    fn linear(w: i64, s: i64) -> i64 {
+        w as i32 as i64 * s as i32 as i64
+    }
+    #[inline(always)]
+    fn quadratic<T: Monomial>(w: &ChannelWeights, s: T, t: T, st: T) -> i64 {
+        s.weighted(w.alpha) + t.weighted(w.beta) + st.weighted(w.gamma)
+    }
+    QuadraticPolynomial {
+        a: round(quadratic(w, ss[0], tt[0], st[0]), 0),
+        b: round(quadratic(w, ss[1], tt[1], st[1]), 1),
+        c: round(quadratic(w, ss[2], tt[2], st[2]), 2),
+        d: round(
+            quadratic(w, ss[3], tt[3], st[3]) + linear(w.delta, su) + linear(w.epsilon, tu),
+            3,
+        ),
+        e: round(
+            quadratic(w, ss[4], tt[4], st[4]) + linear(w.delta, sv) + linear(w.epsilon, tv),
+            4,
+        ),
+        f: round(
+            quadratic(w, ss[5], tt[5], st[5])
+                + linear(w.delta, s0)
+                + linear(w.epsilon, t0)
+                + (w.c0 << BARYCENTRIC_BITS),
+            5,
+        ),
+    }
+}
+
+/// One channel's weights of the fit, from its six samples (Q8, within
+/// `[0, 255]`): `|α|, |β|, |δ|, |ε| < 2^18`, `|γ| < 2^19`.
+struct ChannelWeights {
+    alpha: i64,
+    beta: i64,
+    gamma: i64,
+    delta: i64,
+    epsilon: i64,
+    c0: i64,
+}
+
+impl ChannelWeights {
+    #[inline(always)]
+    fn of(samples: &QuadraticSamples, ch: usize) -> Self {
+        let sample = |v: &ColorQ8| v[ch] as i64;
+        let [v0, v1, v2] = &samples.vertices;
+        let [v01, v12, v20] = &samples.midpoints;
+        let (c0, c1, c2) = (sample(v0), sample(v1), sample(v2));
+        let (m01, m12, m20) = (sample(v01), sample(v12), sample(v20));
+        Self {
+            alpha: 2 * (c0 + c1 - 2 * m01),
+            beta: 2 * (c0 + c2 - 2 * m20),
+            gamma: 4 * (c0 + m12 - m01 - m20),
+            delta: 4 * m01 - 3 * c0 - c1,
+            epsilon: 4 * m20 - 3 * c0 - c2,
+            c0,
+        }
+    }
+}
