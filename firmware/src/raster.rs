@@ -267,7 +267,7 @@ pub(crate) enum BandTest {
     /// where pixels were asked).
     Shown,
     /// Only the pixels of the triangle's row spans in these rows can tell
-    /// ([`spans_hidden_of`], which needs the edges).
+    /// ([`spans_hidden`], which needs the edges).
     AskSpans(RowRange),
 }
 
