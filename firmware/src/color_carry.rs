@@ -31,8 +31,10 @@
 //! each naming the other. The search for a triangle starts after the entry
 //! found last: the next band asks in about the order this one kept.
 
-use crate::setup::{ColorPlanes, Plane};
+use crate::setup::Plane;
+
 use crate::shading::quadratic::{QuadraticPolynomial, NARROW_QUADRATIC_DROPPED_BITS};
+use crate::shading::ColorPlanes;
 
 /// The key of an entry holding no triangle. Zero, so that a table of empty
 /// entries is all zeros and a `static` one takes no flash for its image.

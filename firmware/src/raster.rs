@@ -24,10 +24,11 @@
 use crate::band_buffer::{BandBuffer, FullRun};
 use crate::coverage::CoverageMask;
 use crate::fragment::{fragment_depth, Fragment};
-use crate::setup::{ColorPlanes, Edge, Plane, ScreenBox, TriangleSetup};
+use crate::setup::{Edge, Plane, ScreenBox, TriangleSetup};
 use crate::shading::linear::LinearWalk;
 use crate::shading::phong::PhongWalk;
 use crate::shading::quadratic::QuadraticWalk;
+use crate::shading::ColorPlanes;
 use crate::shading::{ColorWalk, ConstantWalk};
 use core::marker::PhantomData;
 use embedded_graphics_core::pixelcolor::Rgb888;

@@ -1,8 +1,9 @@
 //! Triangle setup: edge functions with the top-left rule and the depth plane,
-//! computed once per triangle (per band it touches), and the color planes,
-//! computed only for a triangle that leaves a visible fragment
-//! ([`TriangleSetup::color_planes`]). One reciprocal of twice the area serves
-//! every plane.
+//! computed once per triangle (per band it touches). The color planes come
+//! later, from [`crate::shading`], and only for a triangle that leaves a
+//! visible fragment ([`TriangleSetup::color_planes`]); the triangle keeps its
+//! ordered corners and the reciprocal of twice its area for them, so one
+//! reciprocal serves every plane.
 //!
 //! Edge function of the edge from `a` to `b`, for a point `p` in 1/16 pixel:
 //! `E(p) = (x_b - x_a)(y_p - y_a) - (y_b - y_a)(x_p - x_a) = A x_p + B y_p + C`.
@@ -17,14 +18,6 @@
 use crate::coverage::CoverageMask;
 use crate::fixed_point::{saturate, Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::GRADIENT_LIMIT;
-use crate::lighting::{clamp_q8, ColorQ8};
-use crate::shading::phong::{normal_planes, PhongPlanes};
-use crate::shading::quadratic::{
-    fit_quadratic_over, light_midpoints, samples_are_planar, walks_in_i32, QuadraticPolynomial,
-    QuadraticSamples,
-};
-use crate::shading::TriangleLighting;
-use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// A vertex in window coordinates, ready for setup.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -36,24 +29,6 @@ pub struct SetupVertex {
     pub y: i32,
     /// Depth, 24 fraction bits, `0 ..= DEPTH_MAX`.
     pub z: u32,
-}
-
-/// How fragment colors are produced across a triangle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ColorSource<'l> {
-    /// One color for the whole triangle.
-    Constant(Rgb888),
-    /// The vertex colors (Q8, `0 ..= 255 * 256`, in the order of the
-    /// vertices given to setup) interpolated linearly in screen space
-    /// (Gouraud).
-    Linear([ColorQ8; 3]),
-    /// A quadratic through the vertex colors (the second field, as for
-    /// [`ColorSource::Linear`]) and the lit edge midpoints, stepped by forward
-    /// differences (SPEC section 8, [`crate::shading`]).
-    Quadratic(TriangleLighting<'l>, [ColorQ8; 3]),
-    /// The normal interpolated linearly in screen space and lit at every pixel
-    /// (Phong; the reference).
-    Phong(TriangleLighting<'l>),
 }
 
 /// One edge function, biased for the top-left rule.
@@ -98,23 +73,6 @@ pub struct Plane {
     pub dx: i64,
     /// Change per pixel in y.
     pub dy: i64,
-}
-
-/// Colors of a set-up triangle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ColorPlanes {
-    /// A constant color.
-    Constant(Rgb888),
-    /// One plane per channel, values with 16 fraction bits.
-    Linear([Plane; 3]),
-    /// One lattice polynomial per channel ([`crate::shading::quadratic::QUADRATIC_FRACTION_BITS`]).
-    Quadratic([QuadraticPolynomial; 3]),
-    /// Quadratic polynomials that [`crate::shading::quadratic::walks_in_i32`]: the same
-    /// colors as [`ColorPlanes::Quadratic`] with these polynomials, stepped in
-    /// half the registers.
-    NarrowQuadratic([QuadraticPolynomial; 3]),
-    /// Normal planes and the light, lit per pixel.
-    Phong(PhongPlanes),
 }
 
 /// Why a triangle produced no setup.
@@ -173,13 +131,13 @@ impl TriangleSetup {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Corners {
     /// x in 1/16 pixel, clamped to the guard band.
-    xs: [i32; 3],
+    pub(crate) xs: [i32; 3],
     /// y in 1/16 pixel, clamped to the guard band.
-    ys: [i32; 3],
+    pub(crate) ys: [i32; 3],
     /// Whether vertices 1 and 2 were swapped to make the edges positive inside.
-    swapped: bool,
+    pub(crate) swapped: bool,
     /// The reciprocal of twice the area.
-    area2: Reciprocal,
+    pub(crate) area2: Reciprocal,
 }
 
 /// A triangle that passed setup's rejection tests ([`TriangleSetup::accept`]).
@@ -363,48 +321,6 @@ pub fn signed_area2(v: &[SetupVertex; 3]) -> i64 {
 /// triangles are edge-on and cover almost nothing.
 const DEPTH_STEP_LIMIT: i64 = 1 << 40;
 
-/// Planes through the vertex colors (Q8), values with 16 fraction bits, over
-/// pixel centers from `center` (1/16 pixel); `area2 > 0` for vertices `xs`, `ys`.
-#[inline(always)]
-fn color_planes(
-    colors: &[ColorQ8; 3],
-    xs: &[i64; 3],
-    ys: &[i64; 3],
-    center: (i64, i64),
-    area2: Reciprocal,
-) -> [Plane; 3] {
-    let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
-    let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
-    let shift = 8 + SUBPIXEL_BITS;
-    let steps = |ch: usize| {
-        let c0 = colors[0][ch] as i64;
-        (colors[1][ch] as i64 - c0, colors[2][ch] as i64 - c0)
-    };
-    // The x and y gradients of the three channels, by one reciprocal.
-    let gradients = area2.mul_div_each(
-        core::array::from_fn::<_, 6, _>(|k| {
-            let (dc1, dc2) = steps(k / 2);
-            if k % 2 == 0 {
-                dc1 * dy2 - dc2 * dy1
-            } else {
-                dx1 * dc2 - dx2 * dc1
-            }
-        }),
-        shift,
-    );
-    core::array::from_fn(|ch| {
-        let (gx, gy) = (gradients[2 * ch], gradients[2 * ch + 1]);
-        Plane {
-            origin: (((colors[0][ch] as i64) << shift)
-                + gx * (center.0 - xs[0])
-                + gy * (center.1 - ys[0]))
-                >> SUBPIXEL_BITS,
-            dx: gx,
-            dy: gy,
-        }
-    })
-}
-
 impl TriangleSetup {
     /// Sets up a triangle for a `width x height` screen: edges, bounding box
     /// and depth plane (colors come later, from [`TriangleSetup::color_planes`]).
@@ -559,75 +475,6 @@ impl TriangleSetup {
         // Vertices 1 and 2 were swapped exactly when the signed area was
         // negative, that is when the triangle faces the viewer.
         !self.corners.swapped
-    }
-
-    /// The color planes of this triangle for `source` (the lighting of the
-    /// midpoints and the quadratic fit happen here).
-    pub fn color_planes<'l>(&self, source: ColorSource<'l>) -> ColorPlanes {
-        let Corners {
-            xs,
-            ys,
-            swapped,
-            area2,
-        } = self.corners;
-        let (xs, ys) = (xs.map(i64::from), ys.map(i64::from));
-        let (x0, y0) = (self.x0 as i64, self.y0 as i64);
-        let half = 1i64 << (SUBPIXEL_BITS - 1);
-        let center = ((x0 << SUBPIXEL_BITS) + half, (y0 << SUBPIXEL_BITS) + half);
-        let linear = |colors: &[ColorQ8; 3]| color_planes(colors, &xs, &ys, center, area2);
-        // Colors and normals follow the vertices' order.
-        let ordered_colors = |mut colors: [ColorQ8; 3]| {
-            if swapped {
-                colors.swap(1, 2);
-            }
-            colors
-        };
-        let ordered = |mut lighting: TriangleLighting<'l>| {
-            if swapped {
-                lighting.normals.swap(1, 2);
-            }
-            lighting
-        };
-        match source {
-            ColorSource::Constant(c) => ColorPlanes::Constant(c),
-            ColorSource::Linear(colors) => ColorPlanes::Linear(linear(&ordered_colors(colors))),
-            ColorSource::Quadratic(lighting, colors) => {
-                // The fit takes samples within [0, 255] (Q8): the vertex
-                // colors are clamped here, and the midpoints' lighting and
-                // means stay within that range.
-                let colors = ordered_colors(colors).map(clamp_q8);
-                let samples = QuadraticSamples {
-                    vertices: colors,
-                    midpoints: light_midpoints(&ordered(lighting), &colors),
-                };
-                let size = (self.x1 as i64 - x0 + 1, self.y1 as i64 - y0 + 1);
-                let fitted = if samples_are_planar(&samples) {
-                    None
-                } else {
-                    fit_quadratic_over(&xs, &ys, (x0, y0), size, &samples, Some(area2))
-                };
-                match fitted {
-                    Some(channels) if walks_in_i32(&channels, size) => {
-                        ColorPlanes::NarrowQuadratic(channels)
-                    }
-                    Some(channels) => ColorPlanes::Quadratic(channels),
-                    // Samples on a plane, or a sliver far thinner than its box.
-                    None => ColorPlanes::Linear(linear(&colors)),
-                }
-            }
-            ColorSource::Phong(lighting) => {
-                let lighting = ordered(lighting);
-                match normal_planes(&xs, &ys, (x0, y0), &lighting.normals) {
-                    Some(normal) => ColorPlanes::Phong(PhongPlanes {
-                        normal,
-                        light: *lighting.light,
-                        base: lighting.base,
-                    }),
-                    // Zero area once clamped to the guard band.
-                    None => ColorPlanes::Constant(lighting.base),
-                }
-            }
-        }
     }
 }
 

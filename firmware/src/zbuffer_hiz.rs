@@ -301,7 +301,7 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::setup::{ColorPlanes, ColorSource};
+    use crate::shading::{ColorPlanes, ColorSource};
     use crate::zbuffer::ZBuffer;
 
     const W: u16 = 40;

@@ -48,9 +48,10 @@ use crate::draw_order::TriangleOrder;
 use crate::fixed_point::{GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::fragment::Fragment;
 use crate::raster::rasterize;
-use crate::setup::{signed_area2, ColorPlanes, Edge, Plane, Rejection, SetupVertex, TriangleSetup};
+use crate::setup::{signed_area2, Edge, Plane, Rejection, SetupVertex, TriangleSetup};
 use crate::shading::phong::PhongPlanes;
 use crate::shading::quadratic::QuadraticPolynomial;
+use crate::shading::ColorPlanes;
 use crate::stats::BufferStats;
 use crate::zbuffer::{with_most_in_a_pixel, DepthColorBand};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -794,7 +795,7 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::setup::ColorSource;
+    use crate::shading::ColorSource;
     use crate::zbuffer::ZBuffer;
 
     const W: u16 = 48;

@@ -35,10 +35,11 @@ use mcu_abuffer::fixed_point::{saturate, Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIX
 use mcu_abuffer::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis};
 use mcu_abuffer::lighting::{color_q8, normalize_unit, ColorQ8, LightSetup};
 use mcu_abuffer::scene::Shading;
-use mcu_abuffer::setup::{ColorPlanes, ColorSource, Plane, SetupVertex, TriangleSetup};
+use mcu_abuffer::setup::{Plane, SetupVertex, TriangleSetup};
 use mcu_abuffer::shading::phong::shade_interpolated;
 use mcu_abuffer::shading::quadratic::{QuadraticPolynomial, QUADRATIC_FRACTION_BITS};
 use mcu_abuffer::shading::{clipped_piece_source, TriangleLighting};
+use mcu_abuffer::shading::{ColorPlanes, ColorSource};
 use mcu_abuffer::stats::{BufferStats, FrameStats, GeometryStats};
 use rayon::prelude::*;
 use std::time::Instant;

@@ -13,7 +13,8 @@ use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::raster::rasterize;
-use mcu_abuffer::setup::{ColorSource, Rejection, SetupVertex, TriangleSetup};
+use mcu_abuffer::setup::{Rejection, SetupVertex, TriangleSetup};
+use mcu_abuffer::shading::ColorSource;
 use mcu_abuffer::stats::BufferStats;
 use system_tests::Rng;
 

@@ -2,6 +2,8 @@
 //! triangle, one addition per channel and pixel ([`LinearWalk`]).
 
 use super::{ColorWalk, PlaneValue};
+use crate::fixed_point::{Reciprocal, SUBPIXEL_BITS};
+use crate::lighting::ColorQ8;
 use crate::setup::Plane;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -71,4 +73,46 @@ impl<V: PlaneValue> ColorWalk for LinearWalk<V> {
             row[c] += self.dx[c] * V::from_count(n);
         }
     }
+}
+
+/// Planes through the vertex colors (Q8), values with 16 fraction bits, over
+/// pixel centers from `center` (1/16 pixel); `area2 > 0` for vertices `xs`, `ys`.
+#[inline(always)]
+pub(super) fn color_planes(
+    colors: &[ColorQ8; 3],
+    xs: &[i64; 3],
+    ys: &[i64; 3],
+    center: (i64, i64),
+    area2: Reciprocal,
+) -> [Plane; 3] {
+    let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
+    let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
+    let shift = 8 + SUBPIXEL_BITS;
+    let steps = |ch: usize| {
+        let c0 = colors[0][ch] as i64;
+        (colors[1][ch] as i64 - c0, colors[2][ch] as i64 - c0)
+    };
+    // The x and y gradients of the three channels, by one reciprocal.
+    let gradients = area2.mul_div_each(
+        core::array::from_fn::<_, 6, _>(|k| {
+            let (dc1, dc2) = steps(k / 2);
+            if k % 2 == 0 {
+                dc1 * dy2 - dc2 * dy1
+            } else {
+                dx1 * dc2 - dx2 * dc1
+            }
+        }),
+        shift,
+    );
+    core::array::from_fn(|ch| {
+        let (gx, gy) = (gradients[2 * ch], gradients[2 * ch + 1]);
+        Plane {
+            origin: (((colors[0][ch] as i64) << shift)
+                + gx * (center.0 - xs[0])
+                + gy * (center.1 - ys[0]))
+                >> SUBPIXEL_BITS,
+            dx: gx,
+            dy: gy,
+        }
+    })
 }

@@ -3,8 +3,11 @@
 //! pixels, rows top to bottom and pixels left to right, by additions.
 //!
 //! One file per mode:
-//! - this file: what the modes share: the [`ColorWalk`] that the rasterizer
-//!   steps, the one color of unlit and flat triangles ([`ConstantWalk`]), the
+//! - this file: what the modes share: a triangle's [`ColorSource`] (what
+//!   the renderer knows of its colors) and its [`ColorPlanes`] (what the
+//!   rasterizer steps), the color setup between the two
+//!   ([`TriangleSetup::color_planes`]), the [`ColorWalk`] that steps them,
+//!   the one color of unlit and flat triangles ([`ConstantWalk`]), the
 //!   integers of linear walks ([`PlaneValue`]), and the color source of the
 //!   pieces of a clipped triangle ([`clipped_piece_source`]);
 //! - [`linear`]: Gouraud, the lit vertex colors interpolated linearly;
@@ -13,18 +16,130 @@
 //! - [`phong`]: the normal interpolated and lit at every pixel, the reference
 //!   the others are measured against.
 //!
-//! Each triangle's planes or polynomials are set up by
-//! [`TriangleSetup::color_planes`](crate::setup::TriangleSetup::color_planes),
-//! only for a triangle that leaves a visible fragment.
+//! Color setup runs only for a triangle that leaves a visible fragment, after
+//! its edges and depth plane ([`crate::setup`]): a hidden triangle never pays
+//! for its lighting or its quadratic fit.
 
 pub mod linear;
 pub mod phong;
 pub mod quadratic;
 
-use crate::lighting::{normalize_unit, ColorQ8, LightSetup};
-use crate::setup::ColorSource;
+use crate::fixed_point::SUBPIXEL_BITS;
+use crate::lighting::{clamp_q8, normalize_unit, ColorQ8, LightSetup};
+use crate::setup::{Corners, Plane, TriangleSetup};
 use embedded_graphics_core::pixelcolor::Rgb888;
-use quadratic::round_to_8_bits;
+use phong::{normal_planes, PhongPlanes};
+use quadratic::{
+    fit_quadratic_over, light_midpoints, round_to_8_bits, samples_are_planar, walks_in_i32,
+    QuadraticPolynomial, QuadraticSamples,
+};
+
+/// How fragment colors are produced across a triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColorSource<'l> {
+    /// One color for the whole triangle.
+    Constant(Rgb888),
+    /// The vertex colors (Q8, `0 ..= 255 * 256`, in the order of the
+    /// vertices given to setup) interpolated linearly in screen space
+    /// (Gouraud).
+    Linear([ColorQ8; 3]),
+    /// A quadratic through the vertex colors (the second field, as for
+    /// [`ColorSource::Linear`]) and the lit edge midpoints, stepped by forward
+    /// differences (SPEC section 8, [`quadratic`]).
+    Quadratic(TriangleLighting<'l>, [ColorQ8; 3]),
+    /// The normal interpolated linearly in screen space and lit at every pixel
+    /// (Phong; the reference).
+    Phong(TriangleLighting<'l>),
+}
+
+/// Colors of a set-up triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColorPlanes {
+    /// A constant color.
+    Constant(Rgb888),
+    /// One plane per channel, values with 16 fraction bits.
+    Linear([Plane; 3]),
+    /// One lattice polynomial per channel ([`quadratic::QUADRATIC_FRACTION_BITS`]).
+    Quadratic([QuadraticPolynomial; 3]),
+    /// Quadratic polynomials that [`walks_in_i32`]: the same
+    /// colors as [`ColorPlanes::Quadratic`] with these polynomials, stepped in
+    /// half the registers.
+    NarrowQuadratic([QuadraticPolynomial; 3]),
+    /// Normal planes and the light, lit per pixel.
+    Phong(PhongPlanes),
+}
+
+impl TriangleSetup {
+    /// The color planes of this triangle for `source`: the color setup of its
+    /// shading mode (the lighting of the midpoints and the quadratic fit
+    /// happen here).
+    pub fn color_planes<'l>(&self, source: ColorSource<'l>) -> ColorPlanes {
+        let Corners {
+            xs,
+            ys,
+            swapped,
+            area2,
+        } = self.corners;
+        let (xs, ys) = (xs.map(i64::from), ys.map(i64::from));
+        let (x0, y0) = (self.x0 as i64, self.y0 as i64);
+        let half = 1i64 << (SUBPIXEL_BITS - 1);
+        let center = ((x0 << SUBPIXEL_BITS) + half, (y0 << SUBPIXEL_BITS) + half);
+        let linear = |colors: &[ColorQ8; 3]| linear::color_planes(colors, &xs, &ys, center, area2);
+        // Colors and normals follow the vertices' order.
+        let ordered_colors = |mut colors: [ColorQ8; 3]| {
+            if swapped {
+                colors.swap(1, 2);
+            }
+            colors
+        };
+        let ordered = |mut lighting: TriangleLighting<'l>| {
+            if swapped {
+                lighting.normals.swap(1, 2);
+            }
+            lighting
+        };
+        match source {
+            ColorSource::Constant(c) => ColorPlanes::Constant(c),
+            ColorSource::Linear(colors) => ColorPlanes::Linear(linear(&ordered_colors(colors))),
+            ColorSource::Quadratic(lighting, colors) => {
+                // The fit takes samples within [0, 255] (Q8): the vertex
+                // colors are clamped here, and the midpoints' lighting and
+                // means stay within that range.
+                let colors = ordered_colors(colors).map(clamp_q8);
+                let samples = QuadraticSamples {
+                    vertices: colors,
+                    midpoints: light_midpoints(&ordered(lighting), &colors),
+                };
+                let size = (self.x1 as i64 - x0 + 1, self.y1 as i64 - y0 + 1);
+                let fitted = if samples_are_planar(&samples) {
+                    None
+                } else {
+                    fit_quadratic_over(&xs, &ys, (x0, y0), size, &samples, Some(area2))
+                };
+                match fitted {
+                    Some(channels) if walks_in_i32(&channels, size) => {
+                        ColorPlanes::NarrowQuadratic(channels)
+                    }
+                    Some(channels) => ColorPlanes::Quadratic(channels),
+                    // Samples on a plane, or a sliver far thinner than its box.
+                    None => ColorPlanes::Linear(linear(&colors)),
+                }
+            }
+            ColorSource::Phong(lighting) => {
+                let lighting = ordered(lighting);
+                match normal_planes(&xs, &ys, (x0, y0), &lighting.normals) {
+                    Some(normal) => ColorPlanes::Phong(PhongPlanes {
+                        normal,
+                        light: *lighting.light,
+                        base: lighting.base,
+                    }),
+                    // Zero area once clamped to the guard band.
+                    None => ColorPlanes::Constant(lighting.base),
+                }
+            }
+        }
+    }
+}
 
 /// What quadratic and Phong shading need about a triangle besides its vertices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
