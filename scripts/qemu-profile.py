@@ -2,11 +2,14 @@
 """Instructions per function of a QEMU firmware run, from QEMU's own trace.
 
 Runs an mps2-an386 (Cortex-M4F) firmware ELF under `qemu-system-arm -icount
-shift=0` with the `in_asm`, `exec` and `nochain` logs: `in_asm` gives the
-guest instructions of every translation block once, `exec` logs every
-execution of a block. Instructions per block times executions per block,
-summed by the function the block starts in (the ELF's symbols, through
-llvm-nm or nm), is an exact per-function instruction count of the run.
+shift=0` with the `in_asm`, `exec` and `nochain` logs: `in_asm` lists the
+guest instructions of every translation block as QEMU translates it, `exec`
+logs every entry into a block with QEMU's handle for it, and a `Stopped
+execution` line marks an entry that ran nothing (the instruction budget of
+`-icount` ran out). Instructions per block times the runs of the block,
+summed by the function each instruction belongs to (through llvm-symbolizer,
+inlined functions included; else the ELF's symbols, through llvm-nm or nm),
+is an exact per-function instruction count of the run.
 
     python3 scripts/qemu-profile.py firmware.elf [--top 40] [--workdir DIR]
 
@@ -22,6 +25,17 @@ import shutil
 import subprocess
 import sys
 import tempfile
+
+
+def source_name(where):
+    """A source location `path:line:column` as the listings give it: the
+    library's files by their path under firmware/src (`shading/mod.rs`, so
+    that two files named `mod.rs` stay apart), every other file (the core
+    library, the harness) by its file name."""
+    library = "/firmware/src/"
+    if library in where:
+        return where.split(library, 1)[1]
+    return where.rsplit("/", 1)[-1]
 
 
 def symbols(elf):
@@ -81,33 +95,59 @@ def main():
            "-d", "in_asm,exec,nochain", "-D", log, "-kernel", os.path.abspath(args.elf)]
     subprocess.run(cmd, cwd=work, check=True, stdout=subprocess.DEVNULL)
 
-    blocks = {}          # block start -> its instruction addresses
-    runs = collections.Counter()
-    block = None
-    exec_re = re.compile(r"^Trace \d+: 0x[0-9a-f]+ \[[0-9a-f]+/([0-9a-f]+)/")
+    # QEMU can hold several translation blocks that start at one address: with
+    # `-icount`, an instruction that reads a device (the timer) ends a block
+    # and is translated again as a block of its own, so the same start has a
+    # long and a one-instruction block. A block is therefore known by QEMU's
+    # own handle for it, the host address in each `Trace` line, and bound to
+    # the instructions of the `IN:` listing that its first run follows. A
+    # handle QEMU reuses for new code is bound again; the runs before count
+    # with the instructions they ran. A block whose instruction budget ran out
+    # as it was entered (every 65,535 instructions under `-icount`) has its
+    # `Trace` line but ran nothing; QEMU says so in a `Stopped execution`
+    # line, and that run is taken back.
+    per_pc = collections.Counter()
+    bound = {}           # handle -> [instruction addresses, runs since bound]
+    listing = None       # the instructions of the newest `IN:` block
+    reading = False
+    exec_re = re.compile(r"^Trace \d+: (0x[0-9a-f]+) \[[0-9a-f]+/([0-9a-f]+)/")
+    stopped_re = re.compile(r"^Stopped execution of TB chain before (0x[0-9a-f]+) ")
     insn_re = re.compile(r"^0x([0-9a-f]+):")
+
+    def settle(entry):
+        for pc in entry[0]:
+            per_pc[pc] += entry[1]
+
     with open(log, "r", errors="replace") as f:
         for line in f:
             if line.startswith("Trace"):
+                reading = False
                 m = exec_re.match(line)
-                if m:
-                    runs[int(m.group(1), 16)] += 1
-                block = None
+                if not m:
+                    continue
+                handle, start = m.group(1), int(m.group(2), 16)
+                if listing and listing[0] == start:
+                    if handle in bound:
+                        settle(bound[handle])
+                    bound[handle] = [listing, 0]
+                    listing = None
+                if handle not in bound:
+                    sys.exit(f"qemu-profile: a block at 0x{start:x} ran with no listing")
+                bound[handle][1] += 1
+            elif line.startswith("Stopped"):
+                m = stopped_re.match(line)
+                if m and m.group(1) in bound:
+                    bound[m.group(1)][1] -= 1
             elif line.startswith("IN:"):
-                block = "start"
-            elif block is not None:
+                listing = []
+                reading = True
+            elif reading:
                 m = insn_re.match(line)
                 if m:
-                    pc = int(m.group(1), 16)
-                    if block == "start":
-                        block = pc
-                        blocks[block] = []
-                    blocks[block].append(pc)
+                    listing.append(int(m.group(1), 16))
     os.remove(log)
-    per_pc = collections.Counter()
-    for start, n in runs.items():
-        for pc in blocks.get(start, []):
-            per_pc[pc] += n
+    for entry in bound.values():
+        settle(entry)
     # The innermost (inlined) function of every executed instruction.
     pcs = sorted(per_pc)
     symbolizer = shutil.which("llvm-symbolizer")
@@ -121,7 +161,7 @@ def main():
         for pc, chunk in zip(pcs, out.split("\n\n")):
             first = chunk.strip().splitlines()[:2]
             if first:
-                where = first[1].rsplit("/", 1)[-1] if len(first) > 1 else ""
+                where = source_name(first[1]) if len(first) > 1 else ""
                 names[pc] = f"{short(first[0])}  ({where.split(':')[0]})"
                 lines[pc] = where
     table = symbols(args.elf)
