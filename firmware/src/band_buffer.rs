@@ -5,8 +5,7 @@ use crate::draw_order::TriangleOrder;
 use crate::fragment::{fragment_depth, Fragment};
 use crate::raster::{band_test_of_box, rasterize_rows, BandTest, RowRange};
 use crate::setup::{DepthSetup, Rejection, SetupVertex, TriangleSetup};
-use crate::shading::ColorPlanes;
-use crate::shading::ColorWalk;
+use crate::shading::{ColorPlanes, ColorWalk};
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
 

@@ -28,8 +28,7 @@ use crate::setup::{Edge, Plane, ScreenBox, TriangleSetup};
 use crate::shading::linear::LinearWalk;
 use crate::shading::phong::PhongWalk;
 use crate::shading::quadratic::QuadraticWalk;
-use crate::shading::ColorPlanes;
-use crate::shading::{ColorWalk, ConstantWalk};
+use crate::shading::{ColorPlanes, ColorWalk, ConstantWalk};
 use core::marker::PhantomData;
 use embedded_graphics_core::pixelcolor::Rgb888;
 

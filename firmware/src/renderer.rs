@@ -17,10 +17,8 @@ use crate::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis, 
 use crate::lighting::{color_q8, normalize_unit, LightSetup};
 use crate::openings::OpeningBoxes;
 use crate::scene::{Scene, SceneError, Shading};
-use crate::setup::TriangleSetup;
-use crate::setup::{is_backfacing, signed_area2, SetupVertex};
-use crate::shading::ColorSource;
-use crate::shading::{clipped_piece_source, TriangleLighting};
+use crate::setup::{is_backfacing, signed_area2, SetupVertex, TriangleSetup};
+use crate::shading::{clipped_piece_source, ColorSource, TriangleLighting};
 use crate::sink::LineSink;
 use crate::stats::{FrameStats, GeometryStats};
 use core::cell::{Cell, RefCell};

@@ -22,8 +22,7 @@ use mcu_abuffer::lighting::LightSetup;
 use mcu_abuffer::raster::rasterize;
 use mcu_abuffer::scene::{Camera, Light};
 use mcu_abuffer::setup::{signed_area2, SetupVertex, TriangleSetup};
-use mcu_abuffer::shading::{ColorSource};
-use mcu_abuffer::shading::TriangleLighting;
+use mcu_abuffer::shading::{ColorSource, TriangleLighting};
 use mcu_abuffer::stats::BufferStats;
 
 const LIMIT: i32 = GUARD_BAND_PX << SUBPIXEL_BITS;
