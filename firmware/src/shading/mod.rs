@@ -61,9 +61,9 @@ pub enum ColorPlanes {
     Linear([Plane; 3]),
     /// One lattice polynomial per channel ([`quadratic::QUADRATIC_FRACTION_BITS`]).
     Quadratic([QuadraticPolynomial; 3]),
-    /// Quadratic polynomials that [`walks_in_i32`]: the same
-    /// colors as [`ColorPlanes::Quadratic`] with these polynomials, stepped in
-    /// half the registers.
+    /// Quadratic polynomials that [`walks_in_i32`]: the same colors as
+    /// [`ColorPlanes::Quadratic`] with these polynomials, stepped in half the
+    /// registers.
     NarrowQuadratic([QuadraticPolynomial; 3]),
     /// Normal planes and the light, lit per pixel.
     Phong(PhongPlanes),
