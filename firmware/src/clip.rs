@@ -21,8 +21,8 @@ pub struct ClipVertex {
     pub clip: [i64; 4],
     /// Color, Q8, `0 ..= 255 * 256` (interpolation stays between two such).
     pub color: ColorQ8,
-    /// Eye-space normal, Q2.14 (zero when the shading does not use it); no
-    /// longer unit length after interpolation.
+    /// Normal in the object's model space, Q2.14 (zero when the shading
+    /// does not use it); no longer unit length after interpolation.
     pub normal: [i32; 3],
 }
 

@@ -208,7 +208,8 @@ fn set_up(
 }
 
 /// A transformed vertex: window position (when `outcode == 0`), color and
-/// eye-space normal.
+/// model-space normal (lit with the object's light in model space, as the
+/// renderer does).
 #[derive(Clone, Copy, Debug, Default)]
 struct ProjectedVertex {
     window: WindowVertex,
@@ -253,6 +254,9 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
             &object.transform,
             turn,
         );
+        // The renderer lights each object's normals in its model space.
+        let object_light = light.map(|l| l.in_model_space(&transform.normal));
+        let light = &object_light;
         let base = object.color;
         let base_rgb = [base.r(), base.g(), base.b()];
         let shading = if light.is_some() {
@@ -269,8 +273,8 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
             .map(|(p, n)| {
                 let c = transform.to_clip(p);
                 let (code, (x, y, z)) = outcode_and_project(&c);
-                let normal = transform.normal_to_eye(&n.map(|v| v.to_bits() as i32));
-                let color = match &light {
+                let normal = n.map(|v| v.to_bits() as i32);
+                let color = match light {
                     Some(l) if lit_vertices => shade_to_u8(l.shade(&normal, base)),
                     _ => base_rgb,
                 };
@@ -290,7 +294,7 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
             let pv = tri.map(|i| vertices[i as usize]);
             let normals = pv.map(|p| p.normal);
             let colors = pv.map(|p| p.window.color);
-            let source = match (shading, &light) {
+            let source = match (shading, light) {
                 (Shading::Flat, Some(l)) => {
                     let mut sum = [0i64; 3];
                     for p in &pv {

@@ -144,11 +144,11 @@ impl TriangleSetup {
 /// What quadratic and Phong shading need about a triangle besides its vertices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TriangleLighting<'l> {
-    /// Eye-space unit normals (Q2.14) at the three vertices, in the order of the
-    /// vertices handed to setup.
+    /// Unit normals (Q2.14) at the three vertices, in the object's model space
+    /// (where `light` is), in the order of the vertices handed to setup.
     pub normals: [[i32; 3]; 3],
-    /// The light, prepared for the frame (borrowed: a color request copies
-    /// no more than it must).
+    /// The light, prepared for the frame in the object's model space
+    /// (borrowed: a color request copies no more than it must).
     pub light: &'l LightSetup,
     /// The surface's color.
     pub base: Rgb888,

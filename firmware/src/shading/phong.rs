@@ -59,7 +59,8 @@ pub fn normal_planes(
 /// Per-pixel Phong shading of a triangle: normal planes and the light.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PhongPlanes {
-    /// Eye-space normal components, [`NORMAL_PLANE_BITS`] fraction bits.
+    /// Normal components (in the space of `light`: the object's model
+    /// space), [`NORMAL_PLANE_BITS`] fraction bits.
     pub normal: [Plane; 3],
     /// The light.
     pub light: LightSetup,
