@@ -257,6 +257,21 @@ impl Reciprocal {
         }
     }
 
+    /// [`Reciprocal::mul_div_each`] of numerators that fit a word (none
+    /// `i32::MIN`): the same bits, with no test of their size.
+    #[inline]
+    pub fn mul_div_each_word<const N: usize>(self, numerators: [i32; N], extra: u32) -> [i64; N] {
+        let Some(shift) = self.short_shift((1 << 31) - 1, extra) else {
+            return numerators.map(|n| self.mul_div(n as i64, extra));
+        };
+        let mantissa = self.mantissa as i64;
+        if shift >= 32 {
+            numerators.map(|n| (((n as i64 * mantissa) >> 32) as i32 >> (shift - 32)) as i64)
+        } else {
+            numerators.map(|n| (n as i64 * mantissa) >> shift)
+        }
+    }
+
     /// The shift that takes `n mantissa` to the quotient, for numerators of
     /// at most `magnitudes` (their bits or-ed) that the short path takes.
     /// The quotient is `floor(n mantissa 2^extra / 2^shift)` whenever the
@@ -395,6 +410,16 @@ mod tests {
                 let wide = r.mul_div_wide(n, extra);
                 if wide.unsigned_abs() < 1 << 62 {
                     assert_eq!(each[k], wide, "{n} * 2^{extra} / {d}, in a pair");
+                }
+            }
+            // Numerators that fit a word: the word path gives the same bits.
+            if pair.iter().all(|n| n.unsigned_abs() < 1 << 31) {
+                let words = pair.map(|n| n as i32);
+                let fits = pair
+                    .iter()
+                    .all(|&n| r.mul_div_wide(n, extra).unsigned_abs() < 1 << 62);
+                if fits {
+                    assert_eq!(r.mul_div_each_word(words, extra), each, "{pair:?} / {d}");
                 }
             }
         }

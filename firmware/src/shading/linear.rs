@@ -75,44 +75,123 @@ impl<V: PlaneValue> ColorWalk for LinearWalk<V> {
     }
 }
 
+/// Bound (1/16 pixel, exclusive) on the coordinate steps of a triangle whose
+/// color gradients [`color_planes`] finds in words: 1,024 pixels.
+const SHORT_EDGE_LIMIT: i32 = 1 << 14;
+
+/// The numerators of the x and y gradients of the three channels (channel
+/// after channel, x before y): the colors' steps along the edges from vertex
+/// 0 crossed with the coordinate steps `[dx1, dy1, dx2, dy2]`.
+#[inline(always)]
+fn gradient_numerators<T>(colors: &[ColorQ8; 3], [dx1, dy1, dx2, dy2]: [T; 4]) -> [T; 6]
+where
+    T: Copy + From<i32> + core::ops::Mul<Output = T> + core::ops::Sub<Output = T>,
+{
+    core::array::from_fn(|k| {
+        let c0 = T::from(colors[0][k / 2]);
+        let (dc1, dc2) = (
+            T::from(colors[1][k / 2]) - c0,
+            T::from(colors[2][k / 2]) - c0,
+        );
+        if k % 2 == 0 {
+            dc1 * dy2 - dc2 * dy1
+        } else {
+            dx1 * dc2 - dx2 * dc1
+        }
+    })
+}
+
 /// Planes through the vertex colors (Q8), values with 16 fraction bits, over
-/// pixel centers from `center` (1/16 pixel); `area2 > 0` for vertices `xs`, `ys`.
+/// pixel centers from `center` (1/16 pixel); `area2 > 0` for vertices `xs`, `ys`
+/// (1/16 pixel, within the guard band).
 #[inline(always)]
 pub(super) fn color_planes(
     colors: &[ColorQ8; 3],
-    xs: &[i64; 3],
-    ys: &[i64; 3],
-    center: (i64, i64),
+    xs: &[i32; 3],
+    ys: &[i32; 3],
+    center: (i32, i32),
     area2: Reciprocal,
 ) -> [Plane; 3] {
-    let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
-    let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
+    let steps = [xs[1] - xs[0], ys[1] - ys[0], xs[2] - xs[0], ys[2] - ys[0]];
     let shift = 8 + SUBPIXEL_BITS;
-    let steps = |ch: usize| {
-        let c0 = colors[0][ch] as i64;
-        (colors[1][ch] as i64 - c0, colors[2][ch] as i64 - c0)
-    };
     // The x and y gradients of the three channels, by one reciprocal.
-    let gradients = area2.mul_div_each(
-        core::array::from_fn::<_, 6, _>(|k| {
-            let (dc1, dc2) = steps(k / 2);
-            if k % 2 == 0 {
-                dc1 * dy2 - dc2 * dy1
-            } else {
-                dx1 * dc2 - dx2 * dc1
-            }
-        }),
-        shift,
-    );
+    let gradients = if steps.iter().fold(0, |m, d| m | d.abs()) < SHORT_EDGE_LIMIT {
+        // In words: color steps below 2^16 times coordinate steps below
+        // 2^14, so each product is below 2^30 and their difference fits
+        // `i32`. The same quotients as in `i64`.
+        area2.mul_div_each_word(gradient_numerators(colors, steps), shift)
+    } else {
+        area2.mul_div_each(gradient_numerators(colors, steps.map(i64::from)), shift)
+    };
+    let (u0, v0) = ((center.0 - xs[0]) as i64, (center.1 - ys[0]) as i64);
     core::array::from_fn(|ch| {
         let (gx, gy) = (gradients[2 * ch], gradients[2 * ch + 1]);
         Plane {
-            origin: (((colors[0][ch] as i64) << shift)
-                + gx * (center.0 - xs[0])
-                + gy * (center.1 - ys[0]))
-                >> SUBPIXEL_BITS,
+            origin: (((colors[0][ch] as i64) << shift) + gx * u0 + gy * v0) >> SUBPIXEL_BITS,
             dx: gx,
             dy: gy,
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::xorshift;
+
+    /// The planes with every product in `i64`, as for long edges.
+    fn planes_in_i64(
+        colors: &[ColorQ8; 3],
+        xs: &[i32; 3],
+        ys: &[i32; 3],
+        center: (i32, i32),
+        area2: Reciprocal,
+    ) -> [Plane; 3] {
+        let steps = [xs[1] - xs[0], ys[1] - ys[0], xs[2] - xs[0], ys[2] - ys[0]];
+        let shift = 8 + SUBPIXEL_BITS;
+        let gradients =
+            area2.mul_div_each(gradient_numerators(colors, steps.map(i64::from)), shift);
+        let (u0, v0) = ((center.0 - xs[0]) as i64, (center.1 - ys[0]) as i64);
+        core::array::from_fn(|ch| {
+            let (gx, gy) = (gradients[2 * ch], gradients[2 * ch + 1]);
+            Plane {
+                origin: (((colors[0][ch] as i64) << shift) + gx * u0 + gy * v0) >> SUBPIXEL_BITS,
+                dx: gx,
+                dy: gy,
+            }
+        })
+    }
+
+    #[test]
+    fn short_edges_give_the_planes_of_64_bit_products() {
+        let mut next = xorshift(0x51_7cc1_b727_220a);
+        let mut checked = 0;
+        for i in 0..200_000 {
+            // Edges up to the word path's bound, and some beyond it.
+            let reach = if i % 8 == 0 {
+                1 << 15
+            } else {
+                SHORT_EDGE_LIMIT
+            };
+            let mut corner = || (next() % (2 * reach as u64)) as i32 - reach;
+            let (xs, ys) = ([0, corner(), corner()], [0, corner(), corner()]);
+            let area2 = (xs[1] as i64 * ys[2] as i64) - (xs[2] as i64 * ys[1] as i64);
+            if area2 <= 0 {
+                continue;
+            }
+            let colors: [ColorQ8; 3] =
+                core::array::from_fn(|_| core::array::from_fn(|_| (next() % 65281) as i32));
+            let x0 = xs.iter().min().unwrap() >> SUBPIXEL_BITS;
+            let y0 = ys.iter().min().unwrap() >> SUBPIXEL_BITS;
+            let center = ((x0 << SUBPIXEL_BITS) + 8, (y0 << SUBPIXEL_BITS) + 8);
+            let area2 = Reciprocal::new(area2 as u64);
+            assert_eq!(
+                color_planes(&colors, &xs, &ys, center, area2),
+                planes_in_i64(&colors, &xs, &ys, center, area2),
+                "{xs:?} {ys:?} {colors:?}"
+            );
+            checked += 1;
+        }
+        assert!(checked > 50_000, "{checked}");
+    }
 }

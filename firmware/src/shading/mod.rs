@@ -84,7 +84,10 @@ impl TriangleSetup {
         let (x0, y0) = (self.x0 as i64, self.y0 as i64);
         let half = 1i64 << (SUBPIXEL_BITS - 1);
         let center = ((x0 << SUBPIXEL_BITS) + half, (y0 << SUBPIXEL_BITS) + half);
-        let linear = |colors: &[ColorQ8; 3]| linear::color_planes(colors, &xs, &ys, center, area2);
+        let linear = |colors: &[ColorQ8; 3]| {
+            let center = (center.0 as i32, center.1 as i32);
+            linear::color_planes(colors, &self.corners.xs, &self.corners.ys, center, area2)
+        };
         // Colors and normals follow the vertices' order.
         let ordered_colors = |mut colors: [ColorQ8; 3]| {
             if swapped {
