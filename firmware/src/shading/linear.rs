@@ -5,6 +5,8 @@ use super::{ColorWalk, PlaneValue};
 use crate::fixed_point::{Reciprocal, SUBPIXEL_BITS};
 use crate::lighting::ColorQ8;
 use crate::setup::Plane;
+use core::num::Wrapping;
+use core::ops::{Mul, Sub};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// Linear color planes (Gouraud): one addition per channel and pixel, in
@@ -81,23 +83,25 @@ const SHORT_EDGE_LIMIT: i32 = 1 << 14;
 
 /// The numerators of the x and y gradients of the three channels (channel
 /// after channel, x before y): the colors' steps along the edges from vertex
-/// 0 crossed with the coordinate steps `[dx1, dy1, dx2, dy2]`.
+/// 0 crossed with the coordinate steps `[dx1, dy1, dx2, dy2]`. Wrapping:
+/// colors outside [`ColorSource::Linear`](super::ColorSource::Linear)'s
+/// range give meaningless planes, never a panic.
 #[inline(always)]
-fn gradient_numerators<T>(colors: &[ColorQ8; 3], [dx1, dy1, dx2, dy2]: [T; 4]) -> [T; 6]
+fn gradient_numerators<T>(colors: &[ColorQ8; 3], steps: [T; 4]) -> [T; 6]
 where
-    T: Copy + From<i32> + core::ops::Mul<Output = T> + core::ops::Sub<Output = T>,
+    T: Copy + From<i32>,
+    Wrapping<T>: Mul<Output = Wrapping<T>> + Sub<Output = Wrapping<T>>,
 {
+    let [dx1, dy1, dx2, dy2] = steps.map(Wrapping);
     core::array::from_fn(|k| {
-        let c0 = T::from(colors[0][k / 2]);
-        let (dc1, dc2) = (
-            T::from(colors[1][k / 2]) - c0,
-            T::from(colors[2][k / 2]) - c0,
-        );
-        if k % 2 == 0 {
+        let color = |v: usize| Wrapping(T::from(colors[v][k / 2]));
+        let (dc1, dc2) = (color(1) - color(0), color(2) - color(0));
+        let Wrapping(n) = if k % 2 == 0 {
             dc1 * dy2 - dc2 * dy1
         } else {
             dx1 * dc2 - dx2 * dc1
-        }
+        };
+        n
     })
 }
 
