@@ -105,6 +105,26 @@ where
     })
 }
 
+/// Extra bits of the color gradients' quotients: Q8 colors over 1/16 pixel
+/// to 16 fraction bits per pixel.
+const GRADIENT_SHIFT: u32 = 8 + SUBPIXEL_BITS;
+
+/// The corners' steps from vertex 0, `[dx1, dy1, dx2, dy2]` (1/16 pixel).
+#[inline(always)]
+fn corner_steps(xs: &[i32; 3], ys: &[i32; 3]) -> [i32; 4] {
+    [xs[1] - xs[0], ys[1] - ys[0], xs[2] - xs[0], ys[2] - ys[0]]
+}
+
+/// The gradients of the three channels (x then y, channel after channel) by
+/// one reciprocal, with every product in `i64`.
+#[inline(always)]
+fn gradients_in_i64(colors: &[ColorQ8; 3], steps: [i32; 4], area2: Reciprocal) -> [i64; 6] {
+    area2.mul_div_each(
+        gradient_numerators(colors, steps.map(i64::from)),
+        GRADIENT_SHIFT,
+    )
+}
+
 /// Planes through the vertex colors (Q8), values with 16 fraction bits, over
 /// pixel centers from `center` (1/16 pixel); `area2 > 0` for vertices `xs`, `ys`
 /// (1/16 pixel, within the guard band).
@@ -116,22 +136,34 @@ pub(super) fn color_planes(
     center: (i32, i32),
     area2: Reciprocal,
 ) -> [Plane; 3] {
-    let steps = [xs[1] - xs[0], ys[1] - ys[0], xs[2] - xs[0], ys[2] - ys[0]];
-    let shift = 8 + SUBPIXEL_BITS;
-    // The x and y gradients of the three channels, by one reciprocal.
+    let steps = corner_steps(xs, ys);
     let gradients = if steps.iter().fold(0, |m, d| m | d.abs()) < SHORT_EDGE_LIMIT {
         // In words: color steps below 2^16 times coordinate steps below
         // 2^14, so each product is below 2^30 and their difference fits
         // `i32`. The same quotients as in `i64`.
-        area2.mul_div_each_word(gradient_numerators(colors, steps), shift)
+        area2.mul_div_each_word(gradient_numerators(colors, steps), GRADIENT_SHIFT)
     } else {
-        area2.mul_div_each(gradient_numerators(colors, steps.map(i64::from)), shift)
+        gradients_in_i64(colors, steps, area2)
     };
+    planes_of(colors, xs, ys, center, &gradients)
+}
+
+/// The planes with `gradients` ([`color_planes`]'s) through vertex 0's
+/// colors, their origins at `center`.
+#[inline(always)]
+fn planes_of(
+    colors: &[ColorQ8; 3],
+    xs: &[i32; 3],
+    ys: &[i32; 3],
+    center: (i32, i32),
+    gradients: &[i64; 6],
+) -> [Plane; 3] {
     let (u0, v0) = ((center.0 - xs[0]) as i64, (center.1 - ys[0]) as i64);
     core::array::from_fn(|ch| {
         let (gx, gy) = (gradients[2 * ch], gradients[2 * ch + 1]);
         Plane {
-            origin: (((colors[0][ch] as i64) << shift) + gx * u0 + gy * v0) >> SUBPIXEL_BITS,
+            origin: (((colors[0][ch] as i64) << GRADIENT_SHIFT) + gx * u0 + gy * v0)
+                >> SUBPIXEL_BITS,
             dx: gx,
             dy: gy,
         }
@@ -151,19 +183,8 @@ mod tests {
         center: (i32, i32),
         area2: Reciprocal,
     ) -> [Plane; 3] {
-        let steps = [xs[1] - xs[0], ys[1] - ys[0], xs[2] - xs[0], ys[2] - ys[0]];
-        let shift = 8 + SUBPIXEL_BITS;
-        let gradients =
-            area2.mul_div_each(gradient_numerators(colors, steps.map(i64::from)), shift);
-        let (u0, v0) = ((center.0 - xs[0]) as i64, (center.1 - ys[0]) as i64);
-        core::array::from_fn(|ch| {
-            let (gx, gy) = (gradients[2 * ch], gradients[2 * ch + 1]);
-            Plane {
-                origin: (((colors[0][ch] as i64) << shift) + gx * u0 + gy * v0) >> SUBPIXEL_BITS,
-                dx: gx,
-                dy: gy,
-            }
-        })
+        let gradients = gradients_in_i64(colors, corner_steps(xs, ys), area2);
+        planes_of(colors, xs, ys, center, &gradients)
     }
 
     #[test]
