@@ -256,15 +256,9 @@ impl Reciprocal {
     #[inline]
     pub fn mul_div_each<const N: usize>(self, numerators: [i64; N], extra: u32) -> [i64; N] {
         let magnitudes = numerators.iter().fold(0, |m, n| m | n.unsigned_abs());
-        let Some(shift) = self.short_shift(magnitudes, extra) else {
-            return numerators.map(|n| self.mul_div(n, extra));
-        };
-        let mantissa = self.mantissa as i64;
-        if shift >= 32 {
-            // The product's high word, shifted on in 32 bits.
-            numerators.map(|n| (((n * mantissa) >> 32) as i32 >> (shift - 32)) as i64)
-        } else {
-            numerators.map(|n| shift_below_32(n * mantissa, shift))
+        match self.short_shift(magnitudes, extra) {
+            Some(shift) => self.short_quotients(numerators, shift),
+            None => numerators.map(|n| self.mul_div(n, extra)),
         }
     }
 
@@ -272,14 +266,24 @@ impl Reciprocal {
     /// `i32::MIN`): the same bits, with no test of their size.
     #[inline]
     pub fn mul_div_each_word<const N: usize>(self, numerators: [i32; N], extra: u32) -> [i64; N] {
-        let Some(shift) = self.short_shift((1 << 31) - 1, extra) else {
-            return numerators.map(|n| self.mul_div(n as i64, extra));
-        };
+        let numerators = numerators.map(i64::from);
+        match self.short_shift((1 << 31) - 1, extra) {
+            Some(shift) => self.short_quotients(numerators, shift),
+            None => numerators.map(|n| self.mul_div(n, extra)),
+        }
+    }
+
+    /// The quotients of numerators below 2^31 in magnitude by the short
+    /// path's `shift` ([`Reciprocal::short_shift`]): each `n mantissa`, one
+    /// 32 x 32-bit product, shifted.
+    #[inline(always)]
+    fn short_quotients<const N: usize>(self, numerators: [i64; N], shift: u32) -> [i64; N] {
         let mantissa = self.mantissa as i64;
         if shift >= 32 {
-            numerators.map(|n| (((n as i64 * mantissa) >> 32) as i32 >> (shift - 32)) as i64)
+            // The product's high word, shifted on in 32 bits.
+            numerators.map(|n| (((n * mantissa) >> 32) as i32 >> (shift - 32)) as i64)
         } else {
-            numerators.map(|n| shift_below_32(n as i64 * mantissa, shift))
+            numerators.map(|n| shift_below_32(n * mantissa, shift))
         }
     }
 
