@@ -98,13 +98,12 @@ impl QuadraticPolynomial {
     }
 }
 
-/// `x y + z w` from Q20 factors, rounded back to Q20. Every factor is below
-/// 2^31 in magnitude (the fit checks `|s0| + |su| + |sv| < 2^30` first), so each
-/// product is one 32 x 32-bit multiplication.
+/// `x y + z w` from Q20 factors, rounded back to Q20. Every factor is a word
+/// (the fit checks `|s0| + |su| + |sv| < 2^30` first, so twice a plane
+/// value fits too), so each product is one 32 x 32-bit multiplication.
 #[inline]
-fn mul2_q20(x: i64, y: i64, z: i64, w: i64) -> i64 {
-    let wide = |a: i64| a as i32 as i64;
-    (wide(x) * wide(y) + wide(z) * wide(w) + (1 << (BARYCENTRIC_BITS - 1))) >> BARYCENTRIC_BITS
+fn mul2_q20(x: i32, y: i32, z: i32, w: i32) -> i64 {
+    (x as i64 * y as i64 + z as i64 * w as i64 + (1 << (BARYCENTRIC_BITS - 1))) >> BARYCENTRIC_BITS
 }
 
 /// Bits needed for `n >= 1`: the smallest `p` with `2^p > n`.
@@ -162,8 +161,8 @@ pub(crate) fn fit_quadratic_over(
 /// over u, change over v]`, Q20), the shift that takes each coefficient from
 /// the normalized box to pixel steps, and the low bits dropped on small boxes.
 pub(super) struct FitBasis {
-    s: [i64; 3],
-    t: [i64; 3],
+    s: [i32; 3],
+    t: [i32; 3],
     /// The larger of `|s0| + |su| + |sv|` and the same sum for `t`.
     pub(super) extent: i64,
     shifts: [u32; 6],
@@ -232,9 +231,10 @@ impl FitBasis {
         if extent >= BARYCENTRIC_LIMIT {
             return None;
         }
+        // Below 2^30 in magnitude (`extent`): words.
         Some(FitBasis {
-            s: [s0, su, sv],
-            t: [t0, tu, tv],
+            s: [s0, su, sv].map(|v| v as i32),
+            t: [t0, tu, tv].map(|v| v as i32),
             extent,
             shifts: [2 * p, 2 * q, p + q, p, q, 0],
             // Boxes up to NARROW_QUADRATIC_BOX get coefficients in multiples of
@@ -305,8 +305,8 @@ pub(super) fn fit_channels<T: Monomial>(
     let [s0, su, sv] = basis.s;
     let [t0, tu, tv] = basis.t;
     // Monomials over the normalized box, coefficients of [u², v², uv, u, v, 1], Q20.
-    let m = |x: i64, y: i64| T::from_mantissa(mul2_q20(x, y, 0, 0));
-    let m2 = |x: i64, y: i64, z: i64, w: i64| T::from_mantissa(mul2_q20(x, y, z, w));
+    let m = |x: i32, y: i32| T::from_mantissa(mul2_q20(x, y, 0, 0));
+    let m2 = |x: i32, y: i32, z: i32, w: i32| T::from_mantissa(mul2_q20(x, y, z, w));
     let ss = [
         m(su, su),
         m(sv, sv),
@@ -342,7 +342,8 @@ pub(super) fn fit_channels<T: Monomial>(
     // up to 128): the halves fit 32 bits.
     let half = |k: usize| ((1u32 << (basis.shifts[k] + basis.drop)) >> 1) as i64;
     let halves = [half(0), half(1), half(2), half(3), half(4), half(5)];
-    let kept = !((1i64 << basis.drop) - 1);
+    // The low bits to clear, a word: the high word passes unchanged.
+    let kept = !(((1u32 << basis.drop) - 1) as i64);
     let round = |v: i64, k: usize| ((v + halves[k]) >> (basis.shifts[k] & 31)) & kept;
     let channel =
         |ch: usize| fit_channel(&ChannelWeights::of(samples, ch), basis, monomials, &round);
@@ -364,8 +365,8 @@ fn fit_channel<T: Monomial>(
     // the monomials, 32 x 32-bit ones with the barycentric planes (below
     // 2^30, checked in `FitBasis::new`).
     #[inline(always)]
-    fn linear(w: i64, s: i64) -> i64 {
-        w as i32 as i64 * s as i32 as i64
+    fn linear(w: i64, s: i32) -> i64 {
+        w as i32 as i64 * s as i64
     }
     #[inline(always)]
     fn quadratic<T: Monomial>(w: &ChannelWeights, s: T, t: T, st: T) -> i64 {
