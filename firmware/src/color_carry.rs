@@ -211,9 +211,7 @@ impl<'a> ColorCarry<'a> {
                         e.key = NO_TRIANGLE;
                     }
                 }
-                let first = &self.entries[i];
-                let rest = self.entries.get(rest).unwrap_or(first);
-                return load(first.held, &first.words, &rest.words);
+                return self.read(i);
             }
         }
         if (last_row as u32) < band_end {
@@ -223,7 +221,7 @@ impl<'a> ColorCarry<'a> {
         }
         let planes = set_up();
         let key = key_of(triangle);
-        match &planes {
+        let kept = match &planes {
             ColorPlanes::Linear(p) => self.keep(key, last_row, band_y0, false, |first, _| {
                 *first = core::array::from_fn(|i| {
                     let plane = &p[i / 3];
@@ -252,9 +250,22 @@ impl<'a> ColorCarry<'a> {
                 }
                 Held::Quadratic
             }),
-            ColorPlanes::Constant(_) | ColorPlanes::Phong(_) => {}
+            ColorPlanes::Constant(_) | ColorPlanes::Phong(_) => None,
+        };
+        // Kept planes are read back from their entries (exactly the same
+        // planes): that costs fewer instructions than a copy of `planes`.
+        match kept {
+            Some(i) => self.read(i),
+            None => planes,
         }
-        planes
+    }
+
+    /// The planes held by entry `i` (the first of its triangle's entries).
+    #[inline(always)]
+    fn read(&self, i: usize) -> ColorPlanes {
+        let first = &self.entries[i];
+        let rest = self.entries.get(first.partner as usize).unwrap_or(first);
+        load(first.held, &first.words, &rest.words)
     }
 
     /// The entry holding (the first part of) the planes kept under `key`,
@@ -273,7 +284,8 @@ impl<'a> ColorCarry<'a> {
     /// Keeps planes of the triangle with `key`, which goes on to row
     /// `last_row` below the band at `band_y0`, in one entry or (`two`) in
     /// two: `store` writes them (into the first entry's words and, when
-    /// there are two, the second's) and says what the first holds.
+    /// there are two, the second's) and says what the first holds. Returns
+    /// the first entry, or `None` when nothing was kept.
     #[inline(always)]
     fn keep(
         &mut self,
@@ -282,13 +294,11 @@ impl<'a> ColorCarry<'a> {
         band_y0: u16,
         two: bool,
         store: impl FnOnce(&mut [i64; ENTRY_WORDS], Option<&mut [i64; ENTRY_WORDS]>) -> Held,
-    ) {
+    ) -> Option<usize> {
         // Only free entries are written: their triangles ended above the
         // band (no band asks for them again) or they hold nothing, so no
         // planes anyone asks for lose an entry.
-        let Some(first) = self.free_entry(band_y0) else {
-            return;
-        };
+        let first = self.free_entry(band_y0)?;
         // An entry names itself as its partner when it holds everything.
         let mut rest = first;
         if two {
@@ -297,7 +307,7 @@ impl<'a> ColorCarry<'a> {
             self.entries[first].last_row = last_row;
             let Some(second) = self.free_entry(band_y0) else {
                 self.entries[first].key = NO_TRIANGLE;
-                return;
+                return None;
             };
             rest = second;
         }
@@ -311,7 +321,7 @@ impl<'a> ColorCarry<'a> {
             // Two distinct entries within the table (from `free_entry`).
             let Ok([a, b]) = self.entries.get_disjoint_mut([first, rest]) else {
                 self.entries[first].key = NO_TRIANGLE;
-                return;
+                return None;
             };
             let held = store(&mut a.words, Some(&mut b.words));
             label(a, held, rest);
@@ -321,6 +331,7 @@ impl<'a> ColorCarry<'a> {
             let held = store(&mut e.words, None);
             label(e, held, first);
         }
+        Some(first)
     }
 
     /// A free entry to keep new planes in (drawing the band at
