@@ -29,6 +29,14 @@ pub fn clamp_q8(c: ColorQ8) -> ColorQ8 {
     c.map(|v| v.clamp(0, COLOR_Q8_MAX))
 }
 
+/// A [`ColorQ8`] rounded to the nearest 8-bit color (each channel clamped
+/// to `0 ..= 255`).
+#[inline]
+pub fn rgb888_rounded(c: ColorQ8) -> Rgb888 {
+    let [r, g, b] = c.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8);
+    Rgb888::new(r, g, b)
+}
+
 /// A color in [`ColorQ8`] form.
 #[inline]
 pub fn color_q8(c: Rgb888) -> ColorQ8 {

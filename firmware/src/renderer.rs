@@ -790,7 +790,10 @@ fn color_source<'f>(
                 light,
                 base: object.color,
             },
-            colors(),
+            corners.map(|p| {
+                let [r, g, b] = p.color();
+                Rgb888::new(r, g, b)
+            }),
         ),
         (Shading::Phong, Some(light)) => ColorSource::Phong(TriangleLighting {
             normals: model_normals(),

@@ -18,7 +18,7 @@ use mcu_abuffer::coverage::{CoverageMask, Mask4x4, Mask8x4, Mask8x8};
 use mcu_abuffer::fixed_point::{Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
 use mcu_abuffer::fragment::{Fragment, GRADIENT_LIMIT};
 use mcu_abuffer::geometry::ViewBasis;
-use mcu_abuffer::lighting::LightSetup;
+use mcu_abuffer::lighting::{rgb888_rounded, LightSetup};
 use mcu_abuffer::raster::rasterize;
 use mcu_abuffer::scene::{Camera, Light};
 use mcu_abuffer::setup::{signed_area2, SetupVertex, TriangleSetup};
@@ -214,7 +214,7 @@ fn run<M: CoverageMask>(u: &mut Unstructured<'_>) -> Result<()> {
                 base,
             };
             if kind == 2 {
-                ColorSource::Quadratic(lit, vertex_colors)
+                ColorSource::Quadratic(lit, vertex_colors.map(rgb888_rounded))
             } else {
                 ColorSource::Phong(lit)
             }

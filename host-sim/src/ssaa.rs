@@ -315,7 +315,10 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
                         light,
                         base,
                     },
-                    colors,
+                    // The vertices' lit colors, whole 8-bit steps in Q8.
+                    colors.map(|c| {
+                        Rgb888::new((c[0] >> 8) as u8, (c[1] >> 8) as u8, (c[2] >> 8) as u8)
+                    }),
                 ),
                 (Shading::Phong, Some(light)) => ColorSource::Phong(TriangleLighting {
                     normals,

@@ -15,7 +15,7 @@ use mcu_abuffer::fragment_buffer::{
     OverflowPolicy, ShapeOfConfig,
 };
 use mcu_abuffer::geometry::{outcode, project, ObjectTransform, ViewBasis};
-use mcu_abuffer::lighting::{ColorQ8, LightSetup};
+use mcu_abuffer::lighting::{rgb888_rounded, ColorQ8, LightSetup};
 use mcu_abuffer::merge::merge_fragments;
 use mcu_abuffer::raster::rasterize;
 use mcu_abuffer::renderer::RenderError;
@@ -295,7 +295,7 @@ fn setup_and_rasterization_at_the_guard_band() {
         };
         let colors = match i % 4 {
             0 | 1 => ColorSource::Linear(vertex_colors),
-            2 => ColorSource::Quadratic(lit, vertex_colors),
+            2 => ColorSource::Quadratic(lit, vertex_colors.map(rgb888_rounded)),
             _ => ColorSource::Phong(lit),
         };
         let (w, h) = if rng.chance(0.5) {

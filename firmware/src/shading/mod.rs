@@ -25,13 +25,13 @@ pub mod phong;
 pub mod quadratic;
 
 use crate::fixed_point::SUBPIXEL_BITS;
-use crate::lighting::{clamp_q8, normalize_unit, ColorQ8, LightSetup};
+use crate::lighting::{color_q8, normalize_unit, rgb888_rounded, ColorQ8, LightSetup};
 use crate::setup::{Corners, Plane, TriangleSetup};
 use embedded_graphics_core::pixelcolor::Rgb888;
 use phong::{normal_planes, PhongPlanes};
 use quadratic::{
-    fit_quadratic_over, light_midpoints, round_to_8_bits, samples_are_planar, walks_in_i32,
-    QuadraticPolynomial, QuadraticSamples,
+    fit_quadratic_over, light_midpoints, samples_are_planar, walks_in_i32, QuadraticPolynomial,
+    QuadraticSamples,
 };
 
 /// How fragment colors are produced across a triangle.
@@ -43,10 +43,11 @@ pub enum ColorSource<'l> {
     /// vertices given to setup) interpolated linearly in screen space
     /// (Gouraud).
     Linear([ColorQ8; 3]),
-    /// A quadratic through the vertex colors (the second field, as for
-    /// [`ColorSource::Linear`]) and the lit edge midpoints, stepped by forward
+    /// A quadratic through the vertex colors (the second field: the lit
+    /// vertices rounded to 8 bits per channel, in the order of the vertices
+    /// given to setup) and the lit edge midpoints, stepped by forward
     /// differences (SPEC section 8, [`quadratic`]).
-    Quadratic(TriangleLighting<'l>, [ColorQ8; 3]),
+    Quadratic(TriangleLighting<'l>, [Rgb888; 3]),
     /// The normal interpolated linearly in screen space and lit at every pixel
     /// (Phong; the reference).
     Phong(TriangleLighting<'l>),
@@ -106,9 +107,9 @@ impl TriangleSetup {
             ColorSource::Linear(colors) => ColorPlanes::Linear(linear(&ordered_colors(colors))),
             ColorSource::Quadratic(lighting, colors) => {
                 // The fit takes samples within [0, 255] (Q8): the vertex
-                // colors are clamped here, and the midpoints' lighting and
-                // means stay within that range.
-                let colors = ordered_colors(colors).map(clamp_q8);
+                // colors are 8-bit by their type (no clamp to pay), and the
+                // midpoints' lighting and means stay within that range.
+                let colors = ordered_colors(colors.map(color_q8));
                 let samples = QuadraticSamples {
                     vertices: colors,
                     midpoints: light_midpoints(&ordered(lighting), &colors),
@@ -177,7 +178,7 @@ pub fn clipped_piece_source<'l>(
         ColorSource::Quadratic(lighting, _) => {
             let lighting = renormalized(lighting);
             let relit = core::array::from_fn(|k| {
-                round_to_8_bits(lighting.light.shade(&lighting.normals[k], lighting.base))
+                rgb888_rounded(lighting.light.shade(&lighting.normals[k], lighting.base))
             });
             ColorSource::Quadratic(lighting, relit)
         }

@@ -1,7 +1,7 @@
 //! The lit edge midpoints: the three samples besides the vertices.
 
 use super::QuadraticSamples;
-use crate::lighting::{normalize_unit, ColorQ8};
+use crate::lighting::{color_q8, normalize_unit, rgb888_rounded, ColorQ8};
 use crate::shading::TriangleLighting;
 
 /// `2^30 / sqrt(1 + (k + 0.5) / 16)`, `k = 0..48`: where [`rsqrt_q28`] starts.
@@ -97,7 +97,7 @@ pub fn samples_are_planar(samples: &QuadraticSamples) -> bool {
 /// gets six equal samples and shades constant.
 #[inline]
 pub fn round_to_8_bits(c: ColorQ8) -> ColorQ8 {
-    c.map(|v| ((v + 128) >> 8).clamp(0, 255) << 8)
+    color_q8(rgb888_rounded(c))
 }
 
 /// Lights the three edge midpoints of a triangle whose vertex normals are
