@@ -33,7 +33,7 @@ use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::clip::{clip_triangle, ClipVertex};
 use mcu_abuffer::fixed_point::{saturate, Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
 use mcu_abuffer::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis};
-use mcu_abuffer::lighting::{color_q8, normalize_unit, ColorQ8, LightSetup};
+use mcu_abuffer::lighting::{color_q8, normalize_unit, rgb888_rounded, ColorQ8, LightSetup};
 use mcu_abuffer::scene::Shading;
 use mcu_abuffer::setup::{Plane, SetupVertex, TriangleSetup};
 use mcu_abuffer::shading::phong::shade_interpolated;
@@ -316,9 +316,7 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
                         base,
                     },
                     // The vertices' lit colors, whole 8-bit steps in Q8.
-                    colors.map(|c| {
-                        Rgb888::new((c[0] >> 8) as u8, (c[1] >> 8) as u8, (c[2] >> 8) as u8)
-                    }),
+                    colors.map(rgb888_rounded),
                 ),
                 (Shading::Phong, Some(light)) => ColorSource::Phong(TriangleLighting {
                     normals,
