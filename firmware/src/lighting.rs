@@ -29,11 +29,18 @@ pub fn clamp_q8(c: ColorQ8) -> ColorQ8 {
     c.map(|v| v.clamp(0, COLOR_Q8_MAX))
 }
 
-/// A [`ColorQ8`] rounded to the nearest 8-bit color (each channel clamped
-/// to `0 ..= 255`).
+/// A [`ColorQ8`] rounded to the nearest 8-bit channels, each clamped to
+/// `0 ..= 255`: how lit colors become the 8-bit colors of vertices,
+/// fragments and flat triangles.
+#[inline]
+pub fn channels_rounded(c: ColorQ8) -> [u8; 3] {
+    c.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8)
+}
+
+/// [`channels_rounded`] as an [`Rgb888`].
 #[inline]
 pub fn rgb888_rounded(c: ColorQ8) -> Rgb888 {
-    let [r, g, b] = c.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8);
+    let [r, g, b] = channels_rounded(c);
     Rgb888::new(r, g, b)
 }
 

@@ -14,7 +14,7 @@ use crate::coverage::CoverageMask;
 use crate::draw_order::DrawOrder;
 use crate::fixed_point::{Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis, OUT_NEAR};
-use crate::lighting::{color_q8, normalize_unit, LightSetup};
+use crate::lighting::{channels_rounded, color_q8, normalize_unit, rgb888_rounded, LightSetup};
 use crate::openings::OpeningBoxes;
 use crate::scene::{Scene, SceneError, Shading};
 use crate::setup::{is_backfacing, signed_area2, SetupVertex, TriangleSetup};
@@ -587,8 +587,7 @@ fn transform_vertices(
             let color = match (shading, &light) {
                 (Shading::Gouraud | Shading::Quadratic, Some(light)) => {
                     let n = mesh.normals[i].map(|v| v.to_bits() as i32);
-                    let lit = light.shade(&n, base_color);
-                    lit.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8)
+                    channels_rounded(light.shade(&n, base_color))
                 }
                 _ => flat,
             };
@@ -810,11 +809,7 @@ fn color_source<'f>(
                 }
             }
             match normalize_unit(sum) {
-                Some(n) => {
-                    let lit = light.shade(&n, object.color);
-                    let c = lit.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8);
-                    ColorSource::Constant(Rgb888::new(c[0], c[1], c[2]))
-                }
+                Some(n) => ColorSource::Constant(rgb888_rounded(light.shade(&n, object.color))),
                 None => ColorSource::Constant(object.color),
             }
         }

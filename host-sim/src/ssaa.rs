@@ -33,7 +33,9 @@ use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::clip::{clip_triangle, ClipVertex};
 use mcu_abuffer::fixed_point::{saturate, Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
 use mcu_abuffer::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis};
-use mcu_abuffer::lighting::{color_q8, normalize_unit, rgb888_rounded, ColorQ8, LightSetup};
+use mcu_abuffer::lighting::{
+    channels_rounded, color_q8, normalize_unit, rgb888_rounded, ColorQ8, LightSetup,
+};
 use mcu_abuffer::scene::Shading;
 use mcu_abuffer::setup::{Plane, SetupVertex, TriangleSetup};
 use mcu_abuffer::shading::phong::shade_interpolated;
@@ -223,10 +225,6 @@ struct FrameTriangles {
     geometry: GeometryStats,
 }
 
-fn shade_to_u8(q8: ColorQ8) -> [u8; 3] {
-    q8.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8)
-}
-
 /// Transforms, lights, clips and sets up every triangle of `scene` turned by
 /// `turntable_deg`, in the order the renderer visits them, with the renderer's
 /// color model per triangle.
@@ -275,7 +273,7 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
                 let (code, (x, y, z)) = outcode_and_project(&c);
                 let normal = n.map(|v| v.to_bits() as i32);
                 let color = match light {
-                    Some(l) if lit_vertices => shade_to_u8(l.shade(&normal, base)),
+                    Some(l) if lit_vertices => channels_rounded(l.shade(&normal, base)),
                     _ => base_rgb,
                 };
                 ProjectedVertex {
@@ -303,7 +301,7 @@ fn frame_triangles(scene: &FixedScene, turntable_deg: f32) -> Result<FrameTriang
                         }
                     }
                     let c = match normalize_unit(sum) {
-                        Some(n) => shade_to_u8(l.shade(&n, base)),
+                        Some(n) => channels_rounded(l.shade(&n, base)),
                         None => base_rgb,
                     };
                     ColorSource::Constant(Rgb888::new(c[0], c[1], c[2]))
@@ -453,7 +451,7 @@ impl ColorSampler {
                     let pl = &p.normal[k];
                     (self.n2 * pl.origin + pl.dx * i2 + pl.dy * j2).div_euclid(self.n2)
                 });
-                shade_to_u8(shade_interpolated(&n, &p.light, p.base))
+                channels_rounded(shade_interpolated(&n, &p.light, p.base))
             }
         }
     }

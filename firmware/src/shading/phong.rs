@@ -6,7 +6,7 @@
 use super::linear::LinearWalk;
 use super::ColorWalk;
 use crate::fixed_point::{SUBPIXEL_BITS, UNIT_BITS};
-use crate::lighting::{normalize_unit, ColorQ8, LightSetup};
+use crate::lighting::{normalize_unit, rgb888_rounded, ColorQ8, LightSetup};
 use crate::setup::Plane;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -108,9 +108,7 @@ impl ColorWalk for PhongWalk {
         self.normal.next_row()
     }
     fn color(&self, row: &[i64; 3]) -> Rgb888 {
-        let lit = shade_interpolated(row, &self.light, self.base);
-        let c = lit.map(|v| ((v + 128) >> 8).clamp(0, 255) as u8);
-        Rgb888::new(c[0], c[1], c[2])
+        rgb888_rounded(shade_interpolated(row, &self.light, self.base))
     }
     #[inline]
     fn step(&self, row: &mut [i64; 3]) {
