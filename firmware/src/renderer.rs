@@ -84,12 +84,12 @@ impl ScreenVertex {
 
     /// Vertex color (lit, or the object's color).
     #[inline]
-    pub fn color(&self) -> [u8; 3] {
-        [
+    pub fn color(&self) -> Rgb888 {
+        Rgb888::new(
             self.x_outcode_red as u8,
             self.y_green as u8,
             (self.z_blue >> 24) as u8,
-        ]
+        )
     }
 
     /// Clip planes the vertex is outside of ([`crate::geometry::outcode`]).
@@ -775,7 +775,7 @@ fn color_source<'f>(
     t: u32,
     corners: &[ScreenVertex; 3],
 ) -> ColorSource<'f> {
-    let colors = || corners.map(|p| p.color().map(|c| (c as i32) << 8));
+    let colors = || corners.map(|p| color_q8(p.color()));
     let (o, i) = ctx.order.split(t);
     let object = &ctx.scene.objects[o];
     let normal = |v: u32| object.mesh.normals[v as usize].map(|c| c.to_bits() as i32);
@@ -789,10 +789,7 @@ fn color_source<'f>(
                 light,
                 base: object.color,
             },
-            corners.map(|p| {
-                let [r, g, b] = p.color();
-                Rgb888::new(r, g, b)
-            }),
+            corners.map(|p| p.color()),
         ),
         (Shading::Phong, Some(light)) => ColorSource::Phong(TriangleLighting {
             normals: model_normals(),
@@ -885,10 +882,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     };
     let clip_in: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
         clip: transform.to_clip(&object.mesh.positions[tri[k] as usize]),
-        color: {
-            let [r, g, b] = v[k].color();
-            color_q8(Rgb888::new(r, g, b))
-        },
+        color: { color_q8(v[k].color()) },
         normal: normals[k],
     });
     let poly = clip_triangle(&clip_in, or);
