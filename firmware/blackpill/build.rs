@@ -148,7 +148,6 @@ fn main() {
     // The library's own byte counts of the statics in src/main.rs.
     let buffer_bytes = bytes::fragment_memory(MASK_BYTES, width, band, main_slots, extra, pool);
     let workspace_bytes = bytes::workspace_memory(
-        width,
         height,
         max_objects,
         max_vertices,

@@ -19,7 +19,7 @@ const HEIGHT: usize = 240;
 
 static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, WIDTH, 6, 1, 2, 1152>> =
     ConstStaticCell::new(FragmentMemory::new());
-static WORKSPACE: ConstStaticCell<WorkspaceMemory<WIDTH, HEIGHT, 1, 6, 8>> =
+static WORKSPACE: ConstStaticCell<WorkspaceMemory<HEIGHT, 1, 6, 8>> =
     ConstStaticCell::new(WorkspaceMemory::new());
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -201,7 +201,7 @@ fn main() {
     };
     let carried = env_num("FIRMWARE_CARRIED", defaults::CARRIED_COLORS);
     let workspace_bytes =
-        bytes::workspace_memory(w, h, desc.objects.len(), vertices, triangles, carried);
+        bytes::workspace_memory(h, desc.objects.len(), vertices, triangles, carried);
     let ram_needed = buffer_bytes + workspace_bytes + stack_reserve;
     if ram_needed > board.ram {
         fail(&format!(

@@ -6,6 +6,7 @@ use crate::fragment::{fragment_depth, Fragment};
 use crate::raster::{band_test_of_box, rasterize_rows, BandTest, RowRange};
 use crate::setup::{DepthSetup, Rejection, SetupVertex, TriangleSetup};
 use crate::shading::{ColorPlanes, ColorWalk};
+use crate::sink::LinePixel;
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -129,15 +130,9 @@ pub trait BandBuffer<M: CoverageMask> {
     {
         insert_each(self, x, row, run, walk, color)
     }
-    /// Resolves band row `row` into colors, `background` where nothing covers.
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]);
-    /// Band row `row` as [`BandBuffer::resolve_row`] would resolve it, when
-    /// the buffer holds it so in its own memory: a row that goes out with no
-    /// copy. `None` (the default) when it has to be resolved.
-    #[inline]
-    fn row_colors(&self, _row: u16, _background: Rgb888) -> Option<&[Rgb888]> {
-        None
-    }
+    /// Resolves band row `row` into `out` in its pixel format (a sink's
+    /// line), `background` where nothing covers.
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]);
     /// Ends the band after its rows are resolved: shared memory (the pool) is released.
     fn end_band(&mut self) {}
     /// Fragments held by pixel `(x, row)` now (for depth-complexity maps).

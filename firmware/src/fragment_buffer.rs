@@ -20,6 +20,7 @@ use crate::coverage::CoverageMask;
 use crate::fragment::{Fragment, PackedFragment};
 use crate::merge::merge_fragments;
 use crate::pool::{PoolAddress, SharedPool};
+use crate::sink::LinePixel;
 use crate::stats::BufferStats;
 use crate::visibility::visibility_mask;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
@@ -982,7 +983,7 @@ impl<M: CoverageMask, A: PoolAddress, S: BufferShape> BandBuffer<M>
     // Out of line, as the z-buffer's: inlined into the frame loop, the
     // row's loop reloads what the registers there cannot hold.
     #[inline(never)]
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
         let width = self.width_px();
         let start = row as usize * width;
         let shown = width.min(out.len());
@@ -992,26 +993,44 @@ impl<M: CoverageMask, A: PoolAddress, S: BufferShape> BandBuffer<M>
         let counts = &self.counts[start..start + shown];
         let out = &mut out[..shown];
         let n_main = self.main_slots();
-        let each = |s: &Self, x: usize, counts: &[u8], out: &mut [Rgb888]| {
+        let empty = P::from_rgb888(background);
+        let each = |s: &Self, x: usize, counts: &[u8], out: &mut [P]| {
             for (k, (px, &n)) in out.iter_mut().zip(counts).enumerate() {
                 let p = start + x + k;
                 *px = if n == 0 {
-                    background
+                    empty
                 } else if n == 1 && s.main[p * n_main].mask() == M::FULL {
                     // An interior pixel: one fragment covers every sample.
                     let [r, g, b] = s.main[p * n_main].rgb();
-                    Rgb888::new(r, g, b)
+                    P::from_channels(r, g, b)
                 } else {
-                    s.resolve_pixel(p, n as usize, background)
+                    P::from_rgb888(s.resolve_pixel(p, n as usize, background))
                 };
             }
         };
-        let quads = counts.chunks_exact(4).zip(out.chunks_exact_mut(4));
-        for (q, (four, px)) in quads.enumerate() {
-            if u32::from_ne_bytes([four[0], four[1], four[2], four[3]]) == 0 {
-                px.fill(background);
+        // Background runs are filled whole (a format may store several
+        // pixels at once), found four counts at a time.
+        let quads = shown / 4;
+        let quad_empty = |q: usize| {
+            let four = &counts[4 * q..4 * q + 4];
+            u32::from_ne_bytes([four[0], four[1], four[2], four[3]]) == 0
+        };
+        let mut q = 0;
+        while q < quads {
+            if quad_empty(q) {
+                let first = q;
+                while q < quads && quad_empty(q) {
+                    q += 1;
+                }
+                P::fill(&mut out[4 * first..4 * q], empty);
             } else {
-                each(self, 4 * q, four, px);
+                each(
+                    self,
+                    4 * q,
+                    &counts[4 * q..4 * q + 4],
+                    &mut out[4 * q..4 * q + 4],
+                );
+                q += 1;
             }
         }
         let done = shown - shown % 4;

@@ -48,7 +48,7 @@
 //! // into a pool of 256; scenes of 1 object, 6 vertices, 8 triangles.
 //! static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, 64, 8, 1, 2, 256>> =
 //!     ConstStaticCell::new(FragmentMemory::new());
-//! static WORKSPACE: ConstStaticCell<WorkspaceMemory<64, 48, 1, 6, 8>> =
+//! static WORKSPACE: ConstStaticCell<WorkspaceMemory<48, 1, 6, 8>> =
 //!     ConstStaticCell::new(WorkspaceMemory::new());
 //!
 //! let objects = [SceneObject {
@@ -158,7 +158,10 @@ pub use fragment_buffer::{
 };
 pub use renderer::{render_frame, FrameOptions, FrameWorkspace, RenderError, Renderer};
 pub use scene::{Camera, Light, Mesh, Scene, SceneObject, Shading, Transform};
-pub use sink::{DrawTargetSink, ImageSink, LineSink};
+pub use sink::{
+    DrawTargetSink, DrawTargetSinkError, ImageSink, LinePixel, LineSink, PackedRgb888,
+    Rgb565BigEndian,
+};
 pub use stats::FrameStats;
 pub use zbuffer::ZBuffer;
 pub use zbuffer_hiz::HierarchicalZBuffer;

@@ -18,20 +18,20 @@
 //! // slots (the sizes of `defaults`); scenes of up to 2 objects, 600
 //! // vertices and 1,000 triangles.
 //! type Fragments = FragmentMemory<Mask4x4, 240, 6, 1, 2, 1152>;
-//! type Workspace = WorkspaceMemory<240, 240, 2, 600, 1000>;
+//! type Workspace = WorkspaceMemory<240, 2, 600, 1000>;
 //! // Per pixel a 14-byte slot, two 2-byte addresses and a count byte; 1,152
 //! // pool slots of 14 bytes: 240 * 6 * 19 + 1,152 * 14 bytes.
 //! assert_eq!(Fragments::BYTES, 43_488);
 //! // 600 screen vertices of 12 bytes, 6 bytes per triangle (its rows and its
-//! // place in the drawing order), 241 row counters, one line of colors, and
-//! // per object its transform.
-//! assert!(Workspace::BYTES > 600 * 12 + 1000 * 6 + 241 * 4 + 240 * 3);
+//! // place in the drawing order), 241 row counters and per object its
+//! // transform (lines are resolved into the sink's own memory).
+//! assert!(Workspace::BYTES > 600 * 12 + 1000 * 6 + 241 * 4);
 //! assert!(Workspace::BYTES < 16 * 1024);
-//! // An optional sixth size keeps the color planes of triangles from one
+//! // An optional fifth size keeps the color planes of triangles from one
 //! // band to the next in that many entries (80 bytes each, two for a
 //! // large quadratic), so a triangle that spans several bands lights and
 //! // fits its colors once.
-//! type CarryingWorkspace = WorkspaceMemory<240, 240, 2, 600, 1000, 8>;
+//! type CarryingWorkspace = WorkspaceMemory<240, 2, 600, 1000, 8>;
 //! assert_eq!(CarryingWorkspace::BYTES, Workspace::BYTES + 8 * 80);
 //!
 //! // On a device these are `static`s (see the crate documentation).
@@ -236,8 +236,8 @@ impl<const HEIGHT: usize> RowStarts<HEIGHT> {
 
 const _: () = assert!(core::mem::size_of::<RowStarts<7>>() == 8 * 4);
 
-/// The working memory of a frame ([`FrameWorkspace`]) for images of `WIDTH` by
-/// `HEIGHT` pixels and scenes of at most `OBJECTS` objects, `VERTICES`
+/// The working memory of a frame ([`FrameWorkspace`]) for images of at most
+/// `HEIGHT` rows and scenes of at most `OBJECTS` objects, `VERTICES`
 /// vertices and `TRIANGLES` triangles (over all objects). A scene that needs
 /// more is refused by [`Renderer::render`](crate::Renderer::render) with
 /// [`RenderError::Workspace`](crate::RenderError::Workspace), naming the part.
@@ -249,7 +249,6 @@ const _: () = assert!(core::mem::size_of::<RowStarts<7>>() == 8 * 4);
 /// bands the default spares the teapot about 800 color setups a frame).
 /// The image does not depend on it; 0, the default, carries nothing.
 pub struct WorkspaceMemory<
-    const WIDTH: usize,
     const HEIGHT: usize,
     const OBJECTS: usize,
     const VERTICES: usize,
@@ -261,18 +260,16 @@ pub struct WorkspaceMemory<
     triangle_rows: [u16; TRIANGLES],
     triangle_order: [u32; TRIANGLES],
     row_starts: RowStarts<HEIGHT>,
-    line: [Rgb888; WIDTH],
     carried_colors: [CarriedColors; CARRIED],
 }
 
 impl<
-        const WIDTH: usize,
         const HEIGHT: usize,
         const OBJECTS: usize,
         const VERTICES: usize,
         const TRIANGLES: usize,
         const CARRIED: usize,
-    > WorkspaceMemory<WIDTH, HEIGHT, OBJECTS, VERTICES, TRIANGLES, CARRIED>
+    > WorkspaceMemory<HEIGHT, OBJECTS, VERTICES, TRIANGLES, CARRIED>
 {
     /// Bytes this memory occupies.
     pub const BYTES: usize = core::mem::size_of::<Self>();
@@ -288,7 +285,6 @@ impl<
                 rows: [0; HEIGHT],
                 end: 0,
             },
-            line: [Rgb888::BLACK; WIDTH],
             carried_colors: [CarriedColors::EMPTY; CARRIED],
         }
     }
@@ -301,20 +297,18 @@ impl<
             triangle_rows: &mut self.triangle_rows,
             triangle_order: &mut self.triangle_order,
             row_starts: self.row_starts.as_mut_slice(),
-            line: &mut self.line,
             carried_colors: &mut self.carried_colors,
         }
     }
 }
 
 impl<
-        const WIDTH: usize,
         const HEIGHT: usize,
         const OBJECTS: usize,
         const VERTICES: usize,
         const TRIANGLES: usize,
         const CARRIED: usize,
-    > Default for WorkspaceMemory<WIDTH, HEIGHT, OBJECTS, VERTICES, TRIANGLES, CARRIED>
+    > Default for WorkspaceMemory<HEIGHT, OBJECTS, VERTICES, TRIANGLES, CARRIED>
 {
     fn default() -> Self {
         Self::new()
@@ -478,10 +472,9 @@ pub mod bytes {
         width * band * (size_of::<u32>() + COLOR)
     }
 
-    /// `WorkspaceMemory::<width, height, objects, vertices, triangles,
+    /// `WorkspaceMemory::<height, objects, vertices, triangles,
     /// carried>::BYTES`.
     pub const fn workspace_memory(
-        width: usize,
         height: usize,
         objects: usize,
         vertices: usize,
@@ -493,9 +486,8 @@ pub mod bytes {
                 + vertices * SCREEN_VERTEX
                 + triangles * TRIANGLE
                 + (height + 1) * size_of::<u32>()
-                + width * COLOR
                 + carried * CARRIED_COLORS,
-            align_of::<super::WorkspaceMemory<1, 1, 1, 1, 1, 1>>(),
+            align_of::<super::WorkspaceMemory<1, 1, 1, 1, 1>>(),
         )
     }
 }
@@ -545,22 +537,22 @@ mod tests {
             ZBufferMemory::<240, 6>::BYTES
         );
         assert_eq!(
-            bytes::workspace_memory(240, 240, 4, 2562, 5120, 0),
-            WorkspaceMemory::<240, 240, 4, 2562, 5120>::BYTES
+            bytes::workspace_memory(240, 4, 2562, 5120, 0),
+            WorkspaceMemory::<240, 4, 2562, 5120>::BYTES
         );
         assert_eq!(
-            bytes::workspace_memory(240, 240, 1, 2562, 5120, 48),
-            WorkspaceMemory::<240, 240, 1, 2562, 5120, 48>::BYTES
+            bytes::workspace_memory(240, 1, 2562, 5120, 48),
+            WorkspaceMemory::<240, 1, 2562, 5120, 48>::BYTES
         );
         assert_eq!(
-            bytes::workspace_memory(7, 5, 1, 3, 1, 3),
-            WorkspaceMemory::<7, 5, 1, 3, 1, 3>::BYTES
+            bytes::workspace_memory(5, 1, 3, 1, 3),
+            WorkspaceMemory::<5, 1, 3, 1, 3>::BYTES
         );
     }
 
     #[test]
     fn row_starts_are_height_plus_one() {
-        let mut memory = Box::new(WorkspaceMemory::<16, 12, 1, 3, 1>::new());
+        let mut memory = Box::new(WorkspaceMemory::<12, 1, 3, 1>::new());
         let ws = memory.workspace();
         assert_eq!(ws.row_starts.len(), 13);
         ws.row_starts[12] = 7;

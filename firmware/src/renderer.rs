@@ -156,8 +156,6 @@ pub struct FrameWorkspace<'a> {
     /// `height + 1` entries for the counting sort by first row (counts of
     /// triangles, below 2^32).
     pub row_starts: &'a mut [u32],
-    /// `width` colors: the line being resolved.
-    pub line: &'a mut [Rgb888],
     /// Color planes carried from one band to the next (any number of
     /// entries, none included: the image is the same, only the work
     /// differs; see [`crate::color_carry`]).
@@ -176,8 +174,6 @@ pub enum WorkspacePart {
     Triangles,
     /// `row_starts`.
     Rows,
-    /// `line`.
-    Line,
 }
 
 /// Why a frame could not be rendered.
@@ -312,7 +308,7 @@ fn check<E>(part: WorkspacePart, needed: usize, available: usize) -> Result<(), 
 /// #     light: None, objects: &objects };
 ///
 /// let mut fragments = Box::new(FragmentMemory::<Mask4x4, 32, 8, 1, 2, 64>::new());
-/// let mut workspace = Box::new(WorkspaceMemory::<32, 24, 1, 8, 12>::new());
+/// let mut workspace = Box::new(WorkspaceMemory::<24, 1, 8, 12>::new());
 /// let mut renderer = Renderer::new(
 ///     workspace.workspace(),
 ///     fragments.buffer(OverflowPolicy::SplitBands),
@@ -424,7 +420,6 @@ where
         scene.height as usize + 1,
         ws.row_starts.len(),
     )?;
-    check(WorkspacePart::Line, scene.width as usize, ws.line.len())?;
     if buffer.width() != scene.width {
         return Err(RenderError::BufferWidth {
             buffer: buffer.width(),
@@ -520,15 +515,10 @@ where
         stats.bands += 1;
         on_band(y0, rows, buffer);
         for row in 0..rows {
-            let line = match buffer.row_colors(row, scene.background) {
-                Some(colors) => colors,
-                None => {
-                    let line = &mut ws.line[..width as usize];
-                    buffer.resolve_row(row, scene.background, line);
-                    line
-                }
-            };
-            sink.write_line(y0 + row, line).map_err(RenderError::Sink)?;
+            // Resolved straight into the sink's line, in its pixel format.
+            let resolve = |line: &mut [S::Pixel]| buffer.resolve_row(row, scene.background, line);
+            sink.fill_line(y0 + row, width, resolve)
+                .map_err(RenderError::Sink)?;
         }
         buffer.end_band();
         y0 = y_end;

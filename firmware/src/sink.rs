@@ -3,15 +3,188 @@
 
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
-use embedded_graphics_core::pixelcolor::{Rgb565, Rgb888, RgbColor};
+use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
+use embedded_graphics_core::pixelcolor::{Gray4, Rgb565, Rgb888, RgbColor};
 use embedded_graphics_core::primitives::Rectangle;
 
-/// Receives the picture one finished line at a time, top to bottom within a band.
+/// A pixel format a sink's lines are written in (a display's, an image
+/// file's): the renderer converts each resolved color once, as it writes it
+/// into the sink's line, so a line goes out with no pass of its own.
+pub trait LinePixel: Copy {
+    /// The pixel of 8-bit channels `r`, `g`, `b`.
+    fn from_channels(r: u8, g: u8, b: u8) -> Self;
+
+    /// The pixel showing `c`.
+    #[inline(always)]
+    fn from_rgb888(c: Rgb888) -> Self {
+        Self::from_channels(c.r(), c.g(), c.b())
+    }
+
+    /// Sets every pixel of `line` to `value` (a format may write several
+    /// pixels at once).
+    #[inline(always)]
+    fn fill(line: &mut [Self], value: Self) {
+        line.fill(value);
+    }
+}
+
+impl LinePixel for Rgb888 {
+    #[inline(always)]
+    fn from_channels(r: u8, g: u8, b: u8) -> Self {
+        Rgb888::new(r, g, b)
+    }
+
+    #[inline(always)]
+    fn from_rgb888(c: Rgb888) -> Self {
+        c
+    }
+}
+
+impl LinePixel for Rgb565 {
+    #[inline(always)]
+    fn from_channels(r: u8, g: u8, b: u8) -> Self {
+        Rgb565::from(Rgb888::new(r, g, b))
+    }
+}
+
+impl LinePixel for Gray4 {
+    #[inline(always)]
+    fn from_channels(r: u8, g: u8, b: u8) -> Self {
+        Gray4::new(gray4(Rgb888::new(r, g, b)))
+    }
+}
+
+/// Pixel formats that are plain bytes (`#[repr(transparent)]` over a byte
+/// array), so that a line of them is a byte slice and back.
+macro_rules! byte_pixel {
+    ($name:ident, $bytes:expr) => {
+        impl $name {
+            /// Bytes of one pixel.
+            pub const BYTES: usize = $bytes;
+
+            /// The bytes of `line`, pixel after pixel.
+            #[inline]
+            pub fn line_bytes(line: &[Self]) -> &[u8] {
+                // SAFETY: `Self` is `#[repr(transparent)]` over `[u8; BYTES]`:
+                // size `BYTES`, alignment 1, every byte initialized.
+                unsafe {
+                    core::slice::from_raw_parts(line.as_ptr().cast::<u8>(), line.len() * $bytes)
+                }
+            }
+
+            /// The bytes of `line`, mutably.
+            #[inline]
+            pub fn line_bytes_mut(line: &mut [Self]) -> &mut [u8] {
+                // SAFETY: as in `line_bytes`; the bytes borrow `line`
+                // mutably for their life.
+                unsafe {
+                    core::slice::from_raw_parts_mut(
+                        line.as_mut_ptr().cast::<u8>(),
+                        line.len() * $bytes,
+                    )
+                }
+            }
+
+            /// `bytes` as pixels (whole pixels from the start; a partial
+            /// last pixel is left out).
+            #[inline]
+            pub fn line_from_bytes_mut(bytes: &mut [u8]) -> &mut [Self] {
+                let n = bytes.len() / $bytes;
+                // SAFETY: as in `line_bytes`, and every byte pattern is a
+                // pixel; the slice borrows `bytes` mutably for its life.
+                unsafe { core::slice::from_raw_parts_mut(bytes.as_mut_ptr().cast::<Self>(), n) }
+            }
+        }
+    };
+}
+
+/// An RGB888 pixel as three bytes, red, green, blue: how binary PPM and PNG
+/// files store a line ([`Rgb888`] itself takes a 32-bit word).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[repr(transparent)]
+pub struct PackedRgb888(pub [u8; 3]);
+
+byte_pixel!(PackedRgb888, 3);
+
+impl LinePixel for PackedRgb888 {
+    #[inline(always)]
+    fn from_channels(r: u8, g: u8, b: u8) -> Self {
+        Self([r, g, b])
+    }
+
+    /// Four pixels at a time as three 32-bit words (unaligned stores, which
+    /// the Cortex-M3 and M4 make as single instructions).
+    #[inline(always)]
+    fn fill(line: &mut [Self], value: Self) {
+        let [r, g, b] = value.0;
+        let four = [r, g, b, r, g, b, r, g, b, r, g, b];
+        let words =
+            [0, 4, 8].map(|k| u32::from_ne_bytes([four[k], four[k + 1], four[k + 2], four[k + 3]]));
+        let mut quads = line.chunks_exact_mut(4);
+        for quad in &mut quads {
+            let bytes = Self::line_bytes_mut(quad);
+            for (k, w) in words.iter().enumerate() {
+                bytes[4 * k..4 * k + 4].copy_from_slice(&w.to_ne_bytes());
+            }
+        }
+        quads.into_remainder().fill(value);
+    }
+}
+
+/// An RGB565 pixel as two bytes, the high byte first: how SPI displays
+/// (ST7789, ILI9341, ...) take a line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[repr(transparent)]
+pub struct Rgb565BigEndian(pub [u8; 2]);
+
+byte_pixel!(Rgb565BigEndian, 2);
+
+impl LinePixel for Rgb565BigEndian {
+    #[inline(always)]
+    fn from_channels(r: u8, g: u8, b: u8) -> Self {
+        Self(
+            RawU16::from(Rgb565::from_channels(r, g, b))
+                .into_inner()
+                .to_be_bytes(),
+        )
+    }
+}
+
+/// Receives the picture one finished line at a time, top to bottom within a
+/// band, in its own pixel format and in its own memory: the renderer writes
+/// each line straight into the buffer the sink hands it (a DMA buffer, a row
+/// of an image), with no line of its own and no copy.
 pub trait LineSink {
+    /// The pixel format of the lines.
+    type Pixel: LinePixel;
     /// Error of the underlying device.
     type Error;
-    /// Takes image row `y`.
-    fn write_line(&mut self, y: u16, pixels: &[Rgb888]) -> Result<(), Self::Error>;
+
+    /// Hands `fill` a line of `width` pixels for image row `y` to write every
+    /// pixel of, then takes the line. A sink that cannot take such a line
+    /// (a row beyond its image, another width) returns an error without
+    /// calling `fill`.
+    fn fill_line<F: FnOnce(&mut [Self::Pixel])>(
+        &mut self,
+        y: u16,
+        width: u16,
+        fill: F,
+    ) -> Result<(), Self::Error>;
+
+    /// Takes image row `y` from colors: [`LineSink::fill_line`] with each
+    /// color converted (for lines that exist as colors already).
+    fn write_line(&mut self, y: u16, pixels: &[Rgb888]) -> Result<(), Self::Error> {
+        let width = u16::try_from(pixels.len()).unwrap_or(u16::MAX);
+        self.fill_line(y, width, |line| convert_line(pixels, line))
+    }
+}
+
+/// Writes `colors` into `line` in its pixel format (as far as both reach).
+#[inline]
+pub fn convert_line<P: LinePixel>(colors: &[Rgb888], line: &mut [P]) {
+    for (dst, &c) in line.iter_mut().zip(colors) {
+        *dst = P::from_rgb888(c);
+    }
 }
 
 /// The 4-bit gray level (0 to 15) of a color, as 4-bit gray displays show it:
@@ -24,41 +197,73 @@ pub fn gray4(c: Rgb888) -> u8 {
 }
 
 /// Streams lines to any embedded-graphics [`DrawTarget`] with RGB565 pixels
-/// (an SPI display driver, a simulator window, a framebuffer).
-pub struct DrawTargetSink<'a, D> {
+/// (an SPI display driver, a simulator window, a framebuffer), through a
+/// line of at most `WIDTH` pixels that the sink keeps.
+pub struct DrawTargetSink<'a, D, const WIDTH: usize> {
     target: &'a mut D,
+    line: [Rgb565; WIDTH],
 }
 
-impl<'a, D> DrawTargetSink<'a, D>
+impl<'a, D, const WIDTH: usize> DrawTargetSink<'a, D, WIDTH>
 where
     D: DrawTarget<Color = Rgb565>,
 {
-    /// Wraps a draw target.
+    /// Wraps a draw target, for lines of at most `WIDTH` pixels.
     pub fn new(target: &'a mut D) -> Self {
-        Self { target }
+        Self {
+            target,
+            line: [Rgb565::BLACK; WIDTH],
+        }
     }
 }
 
-impl<D> LineSink for DrawTargetSink<'_, D>
+/// Why a [`DrawTargetSink`] did not take a line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DrawTargetSinkError<E> {
+    /// The draw target failed.
+    Target(E),
+    /// The line is wider than the sink's line.
+    TooWide {
+        /// Pixels asked for.
+        width: u16,
+        /// Pixels the sink's line holds.
+        line: usize,
+    },
+}
+
+impl<D, const WIDTH: usize> LineSink for DrawTargetSink<'_, D, WIDTH>
 where
     D: DrawTarget<Color = Rgb565>,
 {
-    type Error = D::Error;
+    type Pixel = Rgb565;
+    type Error = DrawTargetSinkError<D::Error>;
 
-    fn write_line(&mut self, y: u16, pixels: &[Rgb888]) -> Result<(), Self::Error> {
-        let area = Rectangle::new(Point::new(0, y as i32), Size::new(pixels.len() as u32, 1));
+    fn fill_line<F: FnOnce(&mut [Rgb565])>(
+        &mut self,
+        y: u16,
+        width: u16,
+        fill: F,
+    ) -> Result<(), Self::Error> {
+        let line = self
+            .line
+            .get_mut(..width as usize)
+            .ok_or(DrawTargetSinkError::TooWide { width, line: WIDTH })?;
+        fill(line);
+        let area = Rectangle::new(Point::new(0, y as i32), Size::new(width as u32, 1));
         self.target
-            .fill_contiguous(&area, pixels.iter().map(|&c| Rgb565::from(c)))
+            .fill_contiguous(&area, line.iter().copied())
+            .map_err(DrawTargetSinkError::Target)
     }
 }
 
-/// Writes lines into a caller-owned RGB888 image (3 bytes per pixel, rows top to bottom).
+/// Writes lines into a caller-owned RGB888 image (3 bytes per pixel, rows top
+/// to bottom): the renderer resolves each line into the image's row itself.
 pub struct ImageSink<'a> {
     width: u16,
     pixels: &'a mut [u8],
 }
 
-/// A line did not fit the image.
+/// A line did not fit the image: a row beyond it, or another width.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct OutOfImage {
     /// The row that was written.
@@ -73,18 +278,25 @@ impl<'a> ImageSink<'a> {
 }
 
 impl LineSink for ImageSink<'_> {
+    type Pixel = PackedRgb888;
     type Error = OutOfImage;
 
-    fn write_line(&mut self, y: u16, line: &[Rgb888]) -> Result<(), OutOfImage> {
-        let w = self.width as usize;
-        let start = y as usize * w * 3;
+    fn fill_line<F: FnOnce(&mut [PackedRgb888])>(
+        &mut self,
+        y: u16,
+        width: u16,
+        fill: F,
+    ) -> Result<(), OutOfImage> {
+        if width != self.width {
+            return Err(OutOfImage { y });
+        }
+        let row_bytes = width as usize * PackedRgb888::BYTES;
+        let start = y as usize * row_bytes;
         let row = self
             .pixels
-            .get_mut(start..start + w * 3)
+            .get_mut(start..start + row_bytes)
             .ok_or(OutOfImage { y })?;
-        for (dst, c) in row.chunks_exact_mut(3).zip(line) {
-            dst.copy_from_slice(&[c.r(), c.g(), c.b()]);
-        }
+        fill(PackedRgb888::line_from_bytes_mut(row));
         Ok(())
     }
 }
@@ -93,6 +305,7 @@ impl LineSink for ImageSink<'_> {
 mod tests {
     use super::*;
     use embedded_graphics_core::geometry::{Dimensions, OriginDimensions};
+    use embedded_graphics_core::pixelcolor::GrayColor;
     use embedded_graphics_core::Pixel;
 
     struct Screen {
@@ -132,7 +345,7 @@ mod tests {
             Rgb888::new(0, 0, 255),
             Rgb888::WHITE,
         ];
-        DrawTargetSink::new(&mut screen)
+        DrawTargetSink::<_, 4>::new(&mut screen)
             .write_line(1, &line)
             .unwrap();
         assert_eq!(screen.pixels[0], [Rgb565::BLACK; 4]);
@@ -140,6 +353,49 @@ mod tests {
             screen.pixels[1],
             [Rgb565::RED, Rgb565::GREEN, Rgb565::BLUE, Rgb565::WHITE]
         );
+    }
+
+    #[test]
+    fn draw_target_sink_refuses_lines_wider_than_its_own() {
+        let mut screen = Screen {
+            pixels: [[Rgb565::BLACK; 4]; 2],
+        };
+        let mut sink = DrawTargetSink::<_, 3>::new(&mut screen);
+        let mut filled = false;
+        assert_eq!(
+            sink.fill_line(0, 4, |_| filled = true),
+            Err(DrawTargetSinkError::TooWide { width: 4, line: 3 })
+        );
+        assert!(!filled);
+        sink.write_line(0, &[Rgb888::WHITE; 3]).unwrap();
+        assert_eq!(
+            screen.pixels[0],
+            [Rgb565::WHITE, Rgb565::WHITE, Rgb565::WHITE, Rgb565::BLACK]
+        );
+    }
+
+    #[test]
+    fn byte_pixels_are_their_bytes() {
+        let c = Rgb888::new(0xF8, 0xFC, 0x08);
+        assert_eq!(PackedRgb888::from_rgb888(c).0, [0xF8, 0xFC, 0x08]);
+        // RGB565, red in the high bits, high byte first.
+        let be = |r, g, b| Rgb565BigEndian::from_channels(r, g, b).0;
+        assert_eq!(be(255, 0, 0), [0xF8, 0x00]);
+        assert_eq!(be(0, 255, 0), [0x07, 0xE0]);
+        assert_eq!(be(0, 0, 255), [0x00, 0x1F]);
+        assert_eq!(be(255, 255, 255), [0xFF, 0xFF]);
+        // Four pixels at a time, and the rest one by one.
+        let mut line = [PackedRgb888::default(); 6];
+        PackedRgb888::fill(&mut line, PackedRgb888([9, 8, 7]));
+        assert_eq!(line, [PackedRgb888([9, 8, 7]); 6]);
+        let line = [PackedRgb888([1, 2, 3]), PackedRgb888([4, 5, 6])];
+        assert_eq!(PackedRgb888::line_bytes(&line), &[1, 2, 3, 4, 5, 6]);
+        let mut bytes = [0u8; 5];
+        let pixels = Rgb565BigEndian::line_from_bytes_mut(&mut bytes);
+        assert_eq!(pixels.len(), 2);
+        pixels[1] = Rgb565BigEndian([7, 8]);
+        assert_eq!(bytes, [0, 0, 7, 8, 0]);
+        assert_eq!(Gray4::from_rgb888(Rgb888::WHITE).luma(), 15);
     }
 
     #[test]
@@ -159,6 +415,10 @@ mod tests {
         assert_eq!(
             sink.write_line(2, &[Rgb888::BLACK; 2]),
             Err(OutOfImage { y: 2 })
+        );
+        assert_eq!(
+            sink.write_line(0, &[Rgb888::BLACK; 3]),
+            Err(OutOfImage { y: 0 })
         );
         assert_eq!(bytes, [0, 0, 0, 0, 0, 0, 1, 2, 3, 4, 5, 6]);
     }

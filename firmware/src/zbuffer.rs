@@ -4,6 +4,7 @@ use crate::band_buffer::{insert_each, BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, Mask1x1};
 use crate::fragment::{depth_in_range, Fragment, PLANE_EXTRA_BITS, PLANE_HALF_UNIT};
 use crate::shading::ColorWalk;
+use crate::sink::{convert_line, LinePixel};
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
@@ -134,12 +135,8 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         self.stats.fragments_hidden_on_arrival += run.len as u32 - stored;
     }
 
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
         self.band.resolve_row(row, background, out);
-    }
-
-    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        self.band.row_colors(row, background)
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {
@@ -275,35 +272,28 @@ impl<'a> DepthColorBand<'a> {
         }
     }
 
-    /// Row `row`'s colors, when its empty pixels hold `background`
-    /// ([`BandBuffer::row_colors`]).
-    #[inline]
-    pub(crate) fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        let start = self.index(0, row);
-        if self.fill == Some(background) {
-            self.color.get(start..start + self.width as usize)
-        } else {
-            None
-        }
-    }
-
     /// Row `row` into `out`: a pixel's color, or `background` where nothing
     /// was drawn.
     // Out of line: inlined into the frame loop, its loop reloads what the
     // registers there cannot hold.
     #[inline(never)]
-    pub(crate) fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    pub(crate) fn resolve_row<P: LinePixel>(
+        &mut self,
+        row: u16,
+        background: Rgb888,
+        out: &mut [P],
+    ) {
         let start = self.index(0, row);
         let shown = (self.width as usize).min(out.len());
         let colors = &self.color[start..start + shown];
         self.next_fill = Some(background);
         if self.fill == Some(background) {
-            out[..shown].copy_from_slice(colors);
+            convert_line(colors, &mut out[..shown]);
             return;
         }
         let depths = &self.depth[start..start + shown];
         for ((px, &z), &c) in out[..shown].iter_mut().zip(depths).zip(colors) {
-            *px = if z == EMPTY_DEPTH { background } else { c };
+            *px = P::from_rgb888(if z == EMPTY_DEPTH { background } else { c });
         }
     }
 }
@@ -410,11 +400,11 @@ mod tests {
         }
     }
 
-    /// A band's rows lent as they are equal the rows resolved pixel by
-    /// pixel, once a resolve has named the background; before that, or for
-    /// another background, no row is lent.
+    /// A band's rows resolve to the drawn colors and the background, both
+    /// before a resolve has named the background (each pixel told by its
+    /// depth) and after (the band's colors filled with it when it begins).
     #[test]
-    fn lent_rows_equal_resolved_rows() {
+    fn rows_resolve_alike_with_the_background_filled_in_or_not() {
         let n = (WIDTH * ROWS) as usize;
         let (mut depth, mut color) = (vec![0; n], vec![Rgb888::new(0, 0, 0); n]);
         let mut band = ZBuffer::new(WIDTH, ROWS, &mut depth, &mut color).unwrap();
@@ -436,13 +426,7 @@ mod tests {
                 }
             }
             for row in 0..ROWS {
-                let lent = band.row_colors(row, background).map(|r| r.to_vec());
-                assert_eq!(lent.is_some(), band_index > 0, "band {band_index}");
-                assert!(band.row_colors(row, Rgb888::new(0, 0, 0)).is_none());
                 band.resolve_row(row, background, &mut resolved);
-                if let Some(lent) = lent {
-                    assert_eq!(lent, resolved, "band {band_index}, row {row}");
-                }
                 for (x, c) in resolved.iter().enumerate() {
                     let drawn = x >= row as usize && (x - row as usize).is_multiple_of(3);
                     let expected = if drawn {

@@ -26,6 +26,7 @@ use crate::fixed_point::DEPTH_MAX;
 use crate::fragment::Fragment;
 use crate::raster::rasterize;
 use crate::setup::{Rejection, SetupVertex, TriangleSetup};
+use crate::sink::LinePixel;
 use crate::stats::BufferStats;
 use crate::zbuffer::{with_most_in_a_pixel, DepthColorBand, EMPTY_DEPTH};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -277,12 +278,8 @@ impl BandBuffer<Mask1x1> for HierarchicalZBuffer<'_> {
         }
     }
 
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
         self.band.resolve_row(row, background, out);
-    }
-
-    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        self.band.row_colors(row, background)
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {

@@ -52,6 +52,7 @@ use crate::setup::{signed_area2, Edge, Plane, Rejection, SetupVertex, TriangleSe
 use crate::shading::phong::PhongPlanes;
 use crate::shading::quadratic::QuadraticPolynomial;
 use crate::shading::ColorPlanes;
+use crate::sink::LinePixel;
 use crate::stats::BufferStats;
 use crate::zbuffer::{with_most_in_a_pixel, DepthColorBand};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -771,12 +772,8 @@ impl BandBuffer<Mask1x1> for MidpointZBuffer<'_> {
         self.band.test_and_store(p, fragment, &mut self.stats);
     }
 
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
         self.band.resolve_row(row, background, out);
-    }
-
-    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        self.band.row_colors(row, background)
     }
 
     fn pixel_fragment_count(&self, x: u16, row: u16) -> u32 {

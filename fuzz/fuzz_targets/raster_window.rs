@@ -23,6 +23,7 @@ use mcu_abuffer::raster::rasterize;
 use mcu_abuffer::scene::{Camera, Light};
 use mcu_abuffer::setup::{signed_area2, SetupVertex, TriangleSetup};
 use mcu_abuffer::shading::{ColorSource, TriangleLighting};
+use mcu_abuffer::sink::LinePixel;
 use mcu_abuffer::stats::BufferStats;
 
 const LIMIT: i32 = GUARD_BAND_PX << SUBPIXEL_BITS;
@@ -134,7 +135,7 @@ impl<M: CoverageMask> BandBuffer<M> for Recorder<M> {
         assert!(slot.is_none(), "pixel ({x}, {row}) rasterized twice");
         *slot = Some(f.mask);
     }
-    fn resolve_row(&mut self, _row: u16, _background: Rgb888, _out: &mut [Rgb888]) {}
+    fn resolve_row<P: LinePixel>(&mut self, _row: u16, _background: Rgb888, _out: &mut [P]) {}
     fn pixel_fragment_count(&self, _x: u16, _row: u16) -> u32 {
         0
     }

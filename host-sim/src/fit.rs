@@ -115,7 +115,6 @@ pub fn workspace_bytes(desc: &SceneDesc, carried: usize) -> usize {
     let vertices: usize = desc.objects.iter().map(|o| o.mesh.positions.len()).sum();
     let triangles: usize = desc.objects.iter().map(|o| o.mesh.triangles.len()).sum();
     bytes::workspace_memory(
-        desc.width as usize,
         desc.height as usize,
         desc.objects.len(),
         vertices,

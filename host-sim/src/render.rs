@@ -15,6 +15,7 @@ use mcu_abuffer::renderer::FrameOptions;
 use mcu_abuffer::scene::Scene;
 use mcu_abuffer::setup::{Rejection, SetupVertex};
 use mcu_abuffer::shading::ColorWalk;
+use mcu_abuffer::sink::LinePixel;
 use mcu_abuffer::stats::{BufferStats, FrameStats};
 use mcu_abuffer::zbuffer::ZBuffer;
 use mcu_abuffer::zbuffer_hiz::{tile_count, HierarchicalZBuffer, HizTile};
@@ -289,11 +290,8 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for CountingBuffer<B> {
         }
         self.inner.insert_full_run(x, row, run, walk, color)
     }
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
         self.inner.resolve_row(row, background, out)
-    }
-    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        self.inner.row_colors(row, background)
     }
     fn end_band(&mut self) {
         self.inner.end_band()

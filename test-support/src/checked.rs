@@ -8,6 +8,7 @@ use mcu_abuffer::fixed_point::DEPTH_MAX;
 use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::fragment_buffer::FragmentBuffer;
 use mcu_abuffer::pool::PoolAddress;
+use mcu_abuffer::sink::LinePixel;
 use mcu_abuffer::stats::BufferStats;
 use mcu_abuffer::zbuffer::ZBuffer;
 
@@ -251,20 +252,12 @@ impl<M: CoverageMask, B: Inspect<M>> BandBuffer<M> for Checked<B> {
         self.check_pixel(x, row);
     }
 
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
         assert!(
             self.open && row < self.rows,
             "row {row} resolved outside the band"
         );
         self.inner.resolve_row(row, background, out)
-    }
-
-    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        assert!(
-            self.open && row < self.rows,
-            "row {row} lent outside the band"
-        );
-        self.inner.row_colors(row, background)
     }
 
     fn end_band(&mut self) {

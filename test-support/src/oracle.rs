@@ -5,6 +5,7 @@ use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::fragment::Fragment;
+use mcu_abuffer::sink::LinePixel;
 use mcu_abuffer::stats::BufferStats;
 
 /// A z-buffer per sample over one band: a depth ([`Fragment::depth_at`], i.e.
@@ -160,10 +161,10 @@ impl<M: CoverageMask> BandBuffer<M> for PerSampleZBuffer<M> {
         }
     }
 
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
         for (x, px) in out.iter_mut().enumerate().take(self.width as usize) {
             let [r, g, b] = self.resolve_pixel(x as u16, row, background);
-            *px = Rgb888::new(r, g, b);
+            *px = P::from_rgb888(Rgb888::new(r, g, b));
         }
     }
 

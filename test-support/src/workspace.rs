@@ -1,7 +1,6 @@
 //! Owned memory for the renderer: the frame workspace and a fragment buffer's
 //! storage, and one frame rendered into an image.
 
-use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::color_carry::CarriedColors;
 use mcu_abuffer::coverage::CoverageMask;
@@ -32,15 +31,13 @@ pub struct OwnedWorkspace {
     pub triangle_order: Vec<u32>,
     /// Image height plus one entries.
     pub row_starts: Vec<u32>,
-    /// One entry per image column.
-    pub line: Vec<Rgb888>,
     /// Carried color planes ([`defaults::CARRIED_COLORS`] entries).
     pub carried_colors: Vec<CarriedColors>,
 }
 
 impl OwnedWorkspace {
     /// A workspace of the sizes `scene` needs: one entry per object, vertex,
-    /// triangle, row (plus one) and column.
+    /// triangle and row (plus one).
     pub fn for_scene(scene: &Scene<'_>) -> Self {
         Self {
             objects: vec![ObjectFrame::EMPTY; scene.objects.len()],
@@ -48,7 +45,6 @@ impl OwnedWorkspace {
             triangle_rows: vec![0; scene.triangle_count()],
             triangle_order: vec![0; scene.triangle_count()],
             row_starts: vec![0; scene.height as usize + 1],
-            line: vec![Rgb888::BLACK; scene.width as usize],
             carried_colors: vec![CarriedColors::EMPTY; defaults::CARRIED_COLORS],
         }
     }
@@ -61,7 +57,6 @@ impl OwnedWorkspace {
             triangle_rows: &mut self.triangle_rows,
             triangle_order: &mut self.triangle_order,
             row_starts: &mut self.row_starts,
-            line: &mut self.line,
             carried_colors: &mut self.carried_colors,
         }
     }

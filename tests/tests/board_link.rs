@@ -74,7 +74,6 @@ fn board_firmware_links_within_the_f411() {
         scenes.iter().map(count).max().unwrap()
     };
     let workspace = bytes::workspace_memory(
-        width,
         height,
         most(|d| d.objects.len()),
         most(|d| d.objects.iter().map(|o| o.mesh.positions.len()).sum()),

@@ -22,6 +22,7 @@ use mcu_abuffer::renderer::RenderError;
 use mcu_abuffer::scene::{Camera, Light, SceneError, Transform};
 use mcu_abuffer::setup::{SetupVertex, TriangleSetup};
 use mcu_abuffer::shading::{ColorPlanes, ColorSource, TriangleLighting};
+use mcu_abuffer::sink::LinePixel;
 use mcu_abuffer::stats::BufferStats;
 use mcu_abuffer::visibility::visibility_mask;
 use system_tests::{render, Rng, Unit};
@@ -194,7 +195,7 @@ impl<M: CoverageMask> BandBuffer<M> for Sink<M> {
         assert!(d < 1 << 29);
         self.fragments += 1;
     }
-    fn resolve_row(&mut self, _row: u16, _background: Rgb888, _out: &mut [Rgb888]) {}
+    fn resolve_row<P: LinePixel>(&mut self, _row: u16, _background: Rgb888, _out: &mut [P]) {}
     fn pixel_fragment_count(&self, _x: u16, _row: u16) -> u32 {
         0
     }

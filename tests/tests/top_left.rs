@@ -15,6 +15,7 @@ use mcu_abuffer::fragment::Fragment;
 use mcu_abuffer::raster::rasterize;
 use mcu_abuffer::setup::{Rejection, SetupVertex, TriangleSetup};
 use mcu_abuffer::shading::ColorSource;
+use mcu_abuffer::sink::LinePixel;
 use mcu_abuffer::stats::BufferStats;
 use system_tests::Rng;
 
@@ -91,17 +92,17 @@ impl<M: CoverageMask> BandBuffer<M> for SampleCounter<M> {
         self.new.push((x, row, fragment.mask));
     }
 
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
         for (x, px) in out.iter_mut().enumerate().take(W as usize) {
             let base = Self::base(x as u16, row);
             let any = self.counts[base..base + M::SAMPLES as usize]
                 .iter()
                 .any(|&c| c > 0);
-            *px = if any {
+            *px = P::from_rgb888(if any {
                 Rgb888::new(255, 255, 255)
             } else {
                 background
-            };
+            });
         }
     }
 

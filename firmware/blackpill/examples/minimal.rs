@@ -34,7 +34,7 @@ use stm32f4xx_hal::spi::{Mode, Phase, Polarity, Spi};
 // scenes of up to 1 object with 64 vertices and 128 triangles.
 static FRAGMENTS: ConstStaticCell<FragmentMemory<Mask4x4, 240, 6, 1, 2, 1152>> =
     ConstStaticCell::new(FragmentMemory::new());
-static WORKSPACE: ConstStaticCell<WorkspaceMemory<240, 240, 1, 64, 128>> =
+static WORKSPACE: ConstStaticCell<WorkspaceMemory<240, 1, 64, 128>> =
     ConstStaticCell::new(WorkspaceMemory::new());
 
 /// The octahedron, lit from the upper left, seen from slightly above.
@@ -105,7 +105,7 @@ fn main() -> ! {
     // The renderer.
     let buffer = FRAGMENTS.take().buffer(OverflowPolicy::SplitBands);
     let mut renderer = Renderer::new(WORKSPACE.take().workspace(), buffer);
-    let mut sink = DrawTargetSink::new(&mut display);
+    let mut sink = DrawTargetSink::<_, 240>::new(&mut display);
     match renderer.render(&scene, &FrameOptions::default(), &mut sink) {
         Ok(stats) => defmt::info!(
             "frame drawn: {=u32} fragments, {=u32} merges",

@@ -61,7 +61,7 @@ const BAND_BYTES: usize = PIXELS * 2;
 
 type Fragments = FragmentMemory<Mask4x4, WIDTH, BAND, MAIN, EXTRA, POOL>;
 type Workspace =
-    WorkspaceMemory<WIDTH, HEIGHT, OBJECTS, VERTICES, TRIANGLES, { defaults::CARRIED_COLORS }>;
+    WorkspaceMemory<HEIGHT, OBJECTS, VERTICES, TRIANGLES, { defaults::CARRIED_COLORS }>;
 // The build script's memory check counted these very types.
 const _: () = assert!(BUFFER_BYTES == Fragments::BYTES && WORKSPACE_BYTES == Workspace::BYTES);
 

@@ -3,9 +3,7 @@
 use crate::link::PanelLink;
 use crate::overlay::{BandCanvas, TextOverlay};
 use crate::st7789::{address_range, CASET, RAMWR, RASET};
-use embedded_graphics::pixelcolor::raw::{RawData, RawU16};
-use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
-use mcu_abuffer::sink::LineSink;
+use mcu_abuffer::sink::{LineSink, Rgb565BigEndian};
 
 /// What can go wrong while streaming.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -226,16 +224,25 @@ impl<'buf, L: PanelLink<'buf>> BandStream<'buf, L> {
 }
 
 impl<'buf, L: PanelLink<'buf>> LineSink for BandStream<'buf, L> {
+    type Pixel = Rgb565BigEndian;
     type Error = StreamError<L::Error>;
 
-    fn write_line(&mut self, y: u16, pixels: &[Rgb888]) -> Result<(), Self::Error> {
+    /// Hands out the next row of the band buffer being filled, as the panel
+    /// takes it (RGB565, high byte first): the renderer resolves into the
+    /// memory the DMA sends.
+    fn fill_line<F: FnOnce(&mut [Rgb565BigEndian])>(
+        &mut self,
+        y: u16,
+        width: u16,
+        fill: F,
+    ) -> Result<(), Self::Error> {
         if y >= self.height {
             return Err(StreamError::Row { y });
         }
-        if pixels.len() != self.width as usize {
+        if width != self.width {
             return Err(StreamError::LineWidth {
                 y,
-                pixels: pixels.len(),
+                pixels: width as usize,
             });
         }
         if self.rows > 0 && y != self.first_row + self.rows {
@@ -244,16 +251,12 @@ impl<'buf, L: PanelLink<'buf>> LineSink for BandStream<'buf, L> {
         if self.rows == 0 {
             self.first_row = y;
         }
-        let row_bytes = 2 * self.width as usize;
+        let row_bytes = Rgb565BigEndian::BYTES * self.width as usize;
         let start = self.rows as usize * row_bytes;
         let buffer = self.filling.as_deref_mut().ok_or(StreamError::LostBuffer)?;
-        for (bytes, &color) in buffer[start..start + row_bytes]
-            .chunks_exact_mut(2)
-            .zip(pixels)
-        {
-            let raw: u16 = RawU16::from(Rgb565::from(color)).into_inner();
-            bytes.copy_from_slice(&raw.to_be_bytes());
-        }
+        fill(Rgb565BigEndian::line_from_bytes_mut(
+            &mut buffer[start..start + row_bytes],
+        ));
         self.rows += 1;
         if self.rows == self.capacity_rows || y + 1 == self.height {
             self.send_band()?;

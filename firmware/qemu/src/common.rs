@@ -100,8 +100,7 @@ type Depths = ZBufferMemory<{ if_used(ZBUF, WIDTH) }, { if_used(ZBUF, BAND) }>;
 
 // The build script's memory check counted these very types.
 const _: () = assert!(
-    WORKSPACE_BYTES
-        == WorkspaceMemory::<WIDTH, HEIGHT, OBJECTS_LEN, VERTICES, TRIANGLES, CARRIED>::BYTES
+    WORKSPACE_BYTES == WorkspaceMemory::<HEIGHT, OBJECTS_LEN, VERTICES, TRIANGLES, CARRIED>::BYTES
 );
 const _: () = assert!(
     BUFFER_BYTES
@@ -115,7 +114,7 @@ const _: () = assert!(
 static FRAGMENTS: ConstStaticCell<Fragments> = ConstStaticCell::new(Fragments::new());
 static DEPTHS: ConstStaticCell<Depths> = ConstStaticCell::new(Depths::new());
 static WORKSPACE: ConstStaticCell<
-    WorkspaceMemory<WIDTH, HEIGHT, OBJECTS_LEN, VERTICES, TRIANGLES, CARRIED>,
+    WorkspaceMemory<HEIGHT, OBJECTS_LEN, VERTICES, TRIANGLES, CARRIED>,
 > = ConstStaticCell::new(WorkspaceMemory::new());
 
 /// Work to do with the frame workspace and the build's band buffer.

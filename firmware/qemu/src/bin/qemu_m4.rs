@@ -16,13 +16,13 @@
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug;
 use defmt_semihosting as _;
-use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+use embedded_graphics_core::pixelcolor::Rgb888;
 use mcu_abuffer::band_buffer::{BandBuffer, PoolUse};
 use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::draw_order::TriangleOrder;
 use mcu_abuffer::fixed_point::Coord;
 use mcu_abuffer::renderer::{render_frame, FrameOptions, FrameWorkspace};
-use mcu_abuffer::sink::LineSink;
+use mcu_abuffer::sink::{LinePixel, LineSink, PackedRgb888};
 use mcu_abuffer::stats::FrameStats;
 
 #[path = "../common.rs"]
@@ -79,24 +79,29 @@ impl Drop for HostFile {
 }
 
 /// Writes lines to a semihosting file as binary PPM, counting the ticks spent.
+/// The renderer resolves each line straight into the sink's line of PPM
+/// pixels, so the ticks are the semihosting call's alone.
 struct SemihostingFrameSink {
     file: Option<HostFile>,
-    bytes: [u8; WIDTH * 3],
+    line: [PackedRgb888; WIDTH],
     ticks: u64,
 }
 
 impl LineSink for SemihostingFrameSink {
+    type Pixel = PackedRgb888;
     type Error = ();
 
-    fn write_line(&mut self, _y: u16, pixels: &[Rgb888]) -> Result<(), ()> {
+    fn fill_line<F: FnOnce(&mut [PackedRgb888])>(
+        &mut self,
+        _y: u16,
+        width: u16,
+        fill: F,
+    ) -> Result<(), ()> {
+        let line = self.line.get_mut(..width as usize).ok_or(())?;
+        fill(line);
         let start = ticks();
-        for (dst, c) in self.bytes.chunks_exact_mut(3).zip(pixels) {
-            dst[0] = c.r();
-            dst[1] = c.g();
-            dst[2] = c.b();
-        }
         let result = match &mut self.file {
-            Some(f) => f.write_all(&self.bytes[..pixels.len() * 3]).map_err(|_| ()),
+            Some(f) => f.write_all(PackedRgb888::line_bytes(line)),
             None => Ok(()),
         };
         self.ticks += ticks() - start;
@@ -250,13 +255,10 @@ impl<M: CoverageMask, B: BandBuffer<M>> BandBuffer<M> for ProfiledBuffer<'_, B> 
         self.inner.insert_full_run(x, row, run, walk, color);
         self.ticks.insert += ticks() - t0;
     }
-    fn resolve_row(&mut self, row: u16, background: Rgb888, out: &mut [Rgb888]) {
+    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
         let t0 = ticks();
         self.inner.resolve_row(row, background, out);
         self.ticks.resolve += ticks() - t0;
-    }
-    fn row_colors(&self, row: u16, background: Rgb888) -> Option<&[Rgb888]> {
-        self.inner.row_colors(row, background)
     }
     fn end_band(&mut self) {
         self.inner.end_band()
@@ -298,7 +300,7 @@ fn run_frames<M: CoverageMask, B: BandBuffer<M>>(
         }
         let mut sink = SemihostingFrameSink {
             file,
-            bytes: [0; WIDTH * 3],
+            line: [PackedRgb888::default(); WIDTH],
             ticks: 0,
         };
         let options = FrameOptions {

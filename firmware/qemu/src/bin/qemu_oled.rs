@@ -13,11 +13,11 @@
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hio;
 use defmt_semihosting as _;
-use embedded_graphics_core::pixelcolor::Rgb888;
+use embedded_graphics_core::pixelcolor::{Gray4, GrayColor};
 use mcu_abuffer::band_buffer::BandBuffer;
 use mcu_abuffer::coverage::CoverageMask;
 use mcu_abuffer::renderer::{render_frame, FrameOptions, FrameWorkspace};
-use mcu_abuffer::sink::{gray4, LineSink};
+use mcu_abuffer::sink::LineSink;
 
 #[path = "../common.rs"]
 mod common;
@@ -105,19 +105,29 @@ impl Oled {
 }
 
 /// Streams each finished line to the OLED: a one-row window, then 64 bytes of
-/// 4-bit gray (two pixels per byte, the left one in the high nibble).
+/// 4-bit gray (two pixels per byte, the left one in the high nibble). The
+/// renderer resolves into `levels`, one gray level per pixel.
 struct OledSink {
     oled: Oled,
+    levels: [Gray4; WIDTH],
     bytes: [u8; WIDTH / 2],
 }
 
 impl LineSink for OledSink {
+    type Pixel = Gray4;
     type Error = ();
 
-    fn write_line(&mut self, y: u16, pixels: &[Rgb888]) -> Result<(), ()> {
-        for (byte, pair) in self.bytes.iter_mut().zip(pixels.chunks(2)) {
-            let left = gray4(pair[0]);
-            let right = pair.get(1).map_or(0, |&c| gray4(c));
+    fn fill_line<F: FnOnce(&mut [Gray4])>(
+        &mut self,
+        y: u16,
+        width: u16,
+        fill: F,
+    ) -> Result<(), ()> {
+        let levels = self.levels.get_mut(..width as usize).ok_or(())?;
+        fill(levels);
+        for (byte, pair) in self.bytes.iter_mut().zip(levels.chunks(2)) {
+            let left = pair[0].luma();
+            let right = pair.get(1).map_or(0, |c| c.luma());
             *byte = (left << 4) | right;
         }
         let last_column = (WIDTH / 2 - 1) as u8;
@@ -175,6 +185,7 @@ fn main() -> ! {
     with_buffers(Frame {
         sink: OledSink {
             oled,
+            levels: [Gray4::BLACK; WIDTH],
             bytes: [0; WIDTH / 2],
         },
     });
