@@ -36,6 +36,9 @@ struct Board {
     default_scene: &'static str,
     width: u32,
     height: u32,
+    /// Bytes of one color of the z-buffer: its pixels are those of the
+    /// build's line sink (`ZBufferPixel` in src/common.rs).
+    zbuffer_pixel_bytes: usize,
 }
 
 const BOARDS: &[Board] = &[
@@ -47,6 +50,8 @@ const BOARDS: &[Board] = &[
         default_scene: "teapot",
         width: 240,
         height: 240,
+        // `PackedRgb888`: the PPM file's pixels.
+        zbuffer_pixel_bytes: 3,
     },
     Board {
         feature: "OLED",
@@ -56,6 +61,8 @@ const BOARDS: &[Board] = &[
         default_scene: "teapot:4",
         width: 128,
         height: 64,
+        // `Gray4`: the OLED's gray levels.
+        zbuffer_pixel_bytes: 1,
     },
 ];
 
@@ -195,7 +202,7 @@ fn main() {
     let (w, h) = (desc.width as usize, desc.height as usize);
     // The library's own byte counts of the statics in src/common.rs.
     let buffer_bytes = if method == "zbuffer" {
-        bytes::zbuffer_memory(w, band)
+        bytes::zbuffer_memory(w, band, board.zbuffer_pixel_bytes)
     } else {
         bytes::fragment_memory(mask_bytes, w, band, main, extra, pool)
     };

@@ -49,8 +49,9 @@ use crate::fragment_buffer::{
     BufferConfig, BufferStorage, ConstShape, FragmentBuffer, OverflowPolicy,
 };
 use crate::renderer::{FrameWorkspace, ObjectFrame, ScreenVertex};
+use crate::sink::LinePixel;
 use crate::zbuffer::ZBuffer;
-use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// Whether a band of `width` x `band` pixels can be addressed (each side
 /// 1 to 65,535).
@@ -173,13 +174,14 @@ impl<
 }
 
 /// The memory of one band for a [`ZBuffer`] (no antialiasing): a depth and a
-/// color per pixel, `WIDTH` by `BAND`.
-pub struct ZBufferMemory<const WIDTH: usize, const BAND: usize> {
+/// color per pixel, `WIDTH` by `BAND`, the colors in pixel format `P` (best
+/// the format of the sink the frame goes to: see [`ZBuffer`]).
+pub struct ZBufferMemory<const WIDTH: usize, const BAND: usize, P: LinePixel = Rgb888> {
     depth: [[u32; WIDTH]; BAND],
-    color: [[Rgb888; WIDTH]; BAND],
+    color: [[P; WIDTH]; BAND],
 }
 
-impl<const WIDTH: usize, const BAND: usize> ZBufferMemory<WIDTH, BAND> {
+impl<const WIDTH: usize, const BAND: usize, P: LinePixel> ZBufferMemory<WIDTH, BAND, P> {
     /// Evaluated by `new`: a size out of range stops the build.
     const SIZES_FIT: () = assert!(band_fits(WIDTH, BAND), "WIDTH and BAND must be 1..=65535");
 
@@ -192,12 +194,12 @@ impl<const WIDTH: usize, const BAND: usize> ZBufferMemory<WIDTH, BAND> {
         let () = Self::SIZES_FIT;
         Self {
             depth: [[0; WIDTH]; BAND],
-            color: [[Rgb888::BLACK; WIDTH]; BAND],
+            color: [[P::BLACK_PIXEL; WIDTH]; BAND],
         }
     }
 
     /// A z-buffer over this memory.
-    pub fn buffer(&mut self) -> ZBuffer<'_> {
+    pub fn buffer(&mut self) -> ZBuffer<'_, P> {
         match ZBuffer::new(
             WIDTH as u16,
             BAND as u16,
@@ -210,7 +212,9 @@ impl<const WIDTH: usize, const BAND: usize> ZBufferMemory<WIDTH, BAND> {
     }
 }
 
-impl<const WIDTH: usize, const BAND: usize> Default for ZBufferMemory<WIDTH, BAND> {
+impl<const WIDTH: usize, const BAND: usize, P: LinePixel> Default
+    for ZBufferMemory<WIDTH, BAND, P>
+{
     fn default() -> Self {
         Self::new()
     }
@@ -390,7 +394,8 @@ pub mod bytes {
     pub const OBJECT_FRAME: usize = size_of::<ObjectFrame>();
     /// Bytes of one entry of the carried-colors table.
     pub const CARRIED_COLORS: usize = size_of::<CarriedColors>();
-    /// Bytes of one color of the resolved line and of the z-buffer.
+    /// Bytes of one color of the z-buffer in its default pixel format
+    /// ([`Rgb888`], a 32-bit word).
     pub const COLOR: usize = size_of::<Rgb888>();
     /// Bytes of one triangle's entries in the workspace: its rows (`u16`) and
     /// its place in the drawing order (`u32`).
@@ -467,9 +472,14 @@ pub mod bytes {
         FragmentParts::new(mask_bytes, width, band, main, extra, pool).total()
     }
 
-    /// `ZBufferMemory::<width, band>::BYTES`: a 32-bit depth and a color per pixel.
-    pub const fn zbuffer_memory(width: usize, band: usize) -> usize {
-        width * band * (size_of::<u32>() + COLOR)
+    /// `ZBufferMemory::<width, band, P>::BYTES` for pixels `P` of
+    /// `pixel_bytes` bytes: a 32-bit depth and a color per pixel (padded to
+    /// the depths' alignment).
+    pub const fn zbuffer_memory(width: usize, band: usize, pixel_bytes: usize) -> usize {
+        round_up(
+            width * band * (size_of::<u32>() + pixel_bytes),
+            align_of::<u32>(),
+        )
     }
 
     /// `WorkspaceMemory::<height, objects, vertices, triangles,
@@ -507,6 +517,14 @@ mod tests {
             config.shared_bytes(fragment, 2, 512) + config.pixels()
         );
         assert_eq!(ZBufferMemory::<240, 6>::BYTES, 240 * 6 * 8);
+        assert_eq!(
+            ZBufferMemory::<240, 6, crate::PackedRgb888>::BYTES,
+            240 * 6 * 7
+        );
+        assert_eq!(
+            ZBufferMemory::<240, 6, crate::Rgb565BigEndian>::BYTES,
+            240 * 6 * 6
+        );
     }
 
     #[test]
@@ -533,8 +551,12 @@ mod tests {
             FragmentMemory::<Mask8x4, 33, 5, 3, 4, 100>::BYTES
         );
         assert_eq!(
-            bytes::zbuffer_memory(240, 6),
+            bytes::zbuffer_memory(240, 6, bytes::COLOR),
             ZBufferMemory::<240, 6>::BYTES
+        );
+        assert_eq!(
+            bytes::zbuffer_memory(7, 3, crate::PackedRgb888::BYTES),
+            ZBufferMemory::<7, 3, crate::PackedRgb888>::BYTES
         );
         assert_eq!(
             bytes::workspace_memory(240, 4, 2562, 5120, 0),

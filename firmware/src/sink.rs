@@ -4,15 +4,25 @@
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
 use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
-use embedded_graphics_core::pixelcolor::{Gray4, Rgb565, Rgb888, RgbColor};
+use embedded_graphics_core::pixelcolor::{Gray4, GrayColor, Rgb565, Rgb888, RgbColor};
 use embedded_graphics_core::primitives::Rectangle;
 
 /// A pixel format a sink's lines are written in (a display's, an image
 /// file's): the renderer converts each resolved color once, as it writes it
-/// into the sink's line, so a line goes out with no pass of its own.
-pub trait LinePixel: Copy {
+/// into the sink's line, so a line goes out with no pass of its own. A
+/// z-buffer can keep its colors in the format too
+/// ([`crate::ZBuffer`]), so that its rows go out as a copy.
+pub trait LinePixel: Copy + 'static {
+    /// The pixel of black (named apart from the color traits' `BLACK`,
+    /// which the same types have).
+    const BLACK_PIXEL: Self;
+
     /// The pixel of 8-bit channels `r`, `g`, `b`.
     fn from_channels(r: u8, g: u8, b: u8) -> Self;
+
+    /// The color the pixel shows, in 8-bit channels (what a format with
+    /// fewer bits keeps of a color, scaled up).
+    fn to_rgb888(self) -> Rgb888;
 
     /// The pixel showing `c`.
     #[inline(always)]
@@ -29,9 +39,16 @@ pub trait LinePixel: Copy {
 }
 
 impl LinePixel for Rgb888 {
+    const BLACK_PIXEL: Self = <Rgb888 as RgbColor>::BLACK;
+
     #[inline(always)]
     fn from_channels(r: u8, g: u8, b: u8) -> Self {
         Rgb888::new(r, g, b)
+    }
+
+    #[inline(always)]
+    fn to_rgb888(self) -> Rgb888 {
+        self
     }
 
     #[inline(always)]
@@ -41,16 +58,30 @@ impl LinePixel for Rgb888 {
 }
 
 impl LinePixel for Rgb565 {
+    const BLACK_PIXEL: Self = <Rgb565 as RgbColor>::BLACK;
+
     #[inline(always)]
     fn from_channels(r: u8, g: u8, b: u8) -> Self {
         Rgb565::from(Rgb888::new(r, g, b))
     }
+
+    #[inline(always)]
+    fn to_rgb888(self) -> Rgb888 {
+        Rgb888::from(self)
+    }
 }
 
 impl LinePixel for Gray4 {
+    const BLACK_PIXEL: Self = <Gray4 as GrayColor>::BLACK;
+
     #[inline(always)]
     fn from_channels(r: u8, g: u8, b: u8) -> Self {
         Gray4::new(gray4(Rgb888::new(r, g, b)))
+    }
+
+    #[inline(always)]
+    fn to_rgb888(self) -> Rgb888 {
+        Rgb888::from(self)
     }
 }
 
@@ -107,9 +138,17 @@ pub struct PackedRgb888(pub [u8; 3]);
 byte_pixel!(PackedRgb888, 3);
 
 impl LinePixel for PackedRgb888 {
+    const BLACK_PIXEL: Self = Self([0; 3]);
+
     #[inline(always)]
     fn from_channels(r: u8, g: u8, b: u8) -> Self {
         Self([r, g, b])
+    }
+
+    #[inline(always)]
+    fn to_rgb888(self) -> Rgb888 {
+        let [r, g, b] = self.0;
+        Rgb888::new(r, g, b)
     }
 
     /// Four pixels at a time as three 32-bit words (unaligned stores, which
@@ -140,6 +179,13 @@ pub struct Rgb565BigEndian(pub [u8; 2]);
 byte_pixel!(Rgb565BigEndian, 2);
 
 impl LinePixel for Rgb565BigEndian {
+    const BLACK_PIXEL: Self = Self([0; 2]);
+
+    #[inline(always)]
+    fn to_rgb888(self) -> Rgb888 {
+        Rgb888::from(Rgb565::from(RawU16::new(u16::from_be_bytes(self.0))))
+    }
+
     #[inline(always)]
     fn from_channels(r: u8, g: u8, b: u8) -> Self {
         Self(
@@ -212,7 +258,7 @@ where
     pub fn new(target: &'a mut D) -> Self {
         Self {
             target,
-            line: [Rgb565::BLACK; WIDTH],
+            line: [<Rgb565 as RgbColor>::BLACK; WIDTH],
         }
     }
 }

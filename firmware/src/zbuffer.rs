@@ -4,20 +4,24 @@ use crate::band_buffer::{insert_each, BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, Mask1x1};
 use crate::fragment::{depth_in_range, Fragment, PLANE_EXTRA_BITS, PLANE_HALF_UNIT};
 use crate::shading::ColorWalk;
-use crate::sink::{convert_line, LinePixel};
+use crate::sink::LinePixel;
 use crate::stats::BufferStats;
 use embedded_graphics_core::pixelcolor::Rgb888;
 
 /// Depth of an empty z-buffer pixel: farther than any fragment.
 pub const EMPTY_DEPTH: u32 = u32::MAX;
 
-/// A band of depths and colors, one per pixel.
-pub struct ZBuffer<'a> {
-    band: DepthColorBand<'a>,
+/// A band of depths and colors, one per pixel, the colors kept in pixel
+/// format `P`: give it the format of the sink the frame goes to (a
+/// display's [`crate::sink::Rgb565BigEndian`], an image's
+/// [`crate::sink::PackedRgb888`]), and its rows go out as copies, with no
+/// conversion; another sink's rows are converted.
+pub struct ZBuffer<'a, P: LinePixel = Rgb888> {
+    band: DepthColorBand<'a, P>,
     stats: BufferStats,
 }
 
-impl<'a> ZBuffer<'a> {
+impl<'a, P: LinePixel> ZBuffer<'a, P> {
     /// A z-buffer over `depth` and `color`, each of length `width * band_height`.
     ///
     /// Returns `None` when a slice has another length or a size is zero.
@@ -25,7 +29,7 @@ impl<'a> ZBuffer<'a> {
         width: u16,
         band_height: u16,
         depth: &'a mut [u32],
-        color: &'a mut [Rgb888],
+        color: &'a mut [P],
     ) -> Option<Self> {
         Some(Self {
             band: DepthColorBand::new(width, band_height, depth, color)?,
@@ -34,7 +38,7 @@ impl<'a> ZBuffer<'a> {
     }
 }
 
-impl BandBuffer<Mask1x1> for ZBuffer<'_> {
+impl<P: LinePixel> BandBuffer<Mask1x1> for ZBuffer<'_, P> {
     fn width(&self) -> u16 {
         self.band.width
     }
@@ -125,7 +129,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
                 replaced += (*stored_depth != EMPTY_DEPTH) as u32;
                 stored += 1;
                 *stored_depth = z;
-                *stored_color = walk.color(color);
+                *stored_color = P::from_rgb888(walk.color(color));
             }
             walk.step(color);
             rounded = rounded.wrapping_add(step);
@@ -135,7 +139,7 @@ impl BandBuffer<Mask1x1> for ZBuffer<'_> {
         self.stats.fragments_hidden_on_arrival += run.len as u32 - stored;
     }
 
-    fn resolve_row<P: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [P]) {
+    fn resolve_row<Q: LinePixel>(&mut self, row: u16, background: Rgb888, out: &mut [Q]) {
         self.band.resolve_row(row, background, out);
     }
 
@@ -182,7 +186,7 @@ pub(crate) fn with_most_in_a_pixel(stats: BufferStats) -> BufferStats {
 /// with that background is its colors as they are, a copy. A band begun
 /// before any resolve, or a row asked with another background, is resolved
 /// pixel by pixel from the depths (the same colors).
-pub(crate) struct DepthColorBand<'a> {
+pub(crate) struct DepthColorBand<'a, P: LinePixel = Rgb888> {
     /// Pixels per row.
     pub(crate) width: u16,
     /// Rows the band holds.
@@ -190,21 +194,21 @@ pub(crate) struct DepthColorBand<'a> {
     /// Depths ([`EMPTY_DEPTH`] where nothing is drawn).
     pub(crate) depth: &'a mut [u32],
     /// Colors (the fill, where nothing is drawn).
-    pub(crate) color: &'a mut [Rgb888],
+    pub(crate) color: &'a mut [P],
     /// What the next band's colors are filled with.
     next_fill: Option<Rgb888>,
     /// What this band's colors were filled with.
     fill: Option<Rgb888>,
 }
 
-impl<'a> DepthColorBand<'a> {
+impl<'a, P: LinePixel> DepthColorBand<'a, P> {
     /// A band over `depth` and `color`, each of length `width * band_height`;
     /// `None` when a slice has another length or a size is zero.
     pub(crate) fn new(
         width: u16,
         band_height: u16,
         depth: &'a mut [u32],
-        color: &'a mut [Rgb888],
+        color: &'a mut [P],
     ) -> Option<Self> {
         let n = width as usize * band_height as usize;
         if n == 0 || depth.len() != n || color.len() != n {
@@ -241,7 +245,7 @@ impl<'a> DepthColorBand<'a> {
         self.depth[..n].fill(EMPTY_DEPTH);
         self.fill = self.next_fill;
         if let Some(background) = self.fill {
-            self.color[..n].fill(background);
+            P::fill(&mut self.color[..n], P::from_rgb888(background));
         }
     }
 
@@ -263,7 +267,7 @@ impl<'a> DepthColorBand<'a> {
         if fragment.mask == Mask1x1::FULL && fragment.z <= old {
             stats.fragments_removed_hidden += (old != EMPTY_DEPTH) as u32;
             *depth = fragment.z;
-            *color = fragment.color;
+            *color = P::from_rgb888(fragment.color);
             stats.fragments_stored += 1;
             Some(old)
         } else {
@@ -277,24 +281,48 @@ impl<'a> DepthColorBand<'a> {
     // Out of line: inlined into the frame loop, its loop reloads what the
     // registers there cannot hold.
     #[inline(never)]
-    pub(crate) fn resolve_row<P: LinePixel>(
+    pub(crate) fn resolve_row<Q: LinePixel>(
         &mut self,
         row: u16,
         background: Rgb888,
-        out: &mut [P],
+        out: &mut [Q],
     ) {
         let start = self.index(0, row);
         let shown = (self.width as usize).min(out.len());
-        let colors = &self.color[start..start + shown];
+        let (colors, out) = (&self.color[start..start + shown], &mut out[..shown]);
         self.next_fill = Some(background);
         if self.fill == Some(background) {
-            convert_line(colors, &mut out[..shown]);
+            if let Some(same) = same_format_mut::<P, Q>(out) {
+                // The row as it is: a copy.
+                same.copy_from_slice(colors);
+            } else {
+                for (px, &c) in out.iter_mut().zip(colors) {
+                    *px = Q::from_rgb888(c.to_rgb888());
+                }
+            }
             return;
         }
         let depths = &self.depth[start..start + shown];
-        for ((px, &z), &c) in out[..shown].iter_mut().zip(depths).zip(colors) {
-            *px = P::from_rgb888(if z == EMPTY_DEPTH { background } else { c });
+        for ((px, &z), &c) in out.iter_mut().zip(depths).zip(colors) {
+            *px = Q::from_rgb888(if z == EMPTY_DEPTH {
+                background
+            } else {
+                c.to_rgb888()
+            });
         }
+    }
+}
+
+/// `line` as pixels of format `P`, when `Q` is `P` (known when compiled: the
+/// test folds away).
+#[inline(always)]
+fn same_format_mut<P: LinePixel, Q: LinePixel>(line: &mut [Q]) -> Option<&mut [P]> {
+    if core::any::TypeId::of::<P>() == core::any::TypeId::of::<Q>() {
+        // SAFETY: `P` and `Q` are the same type; the slice is reborrowed
+        // with its length and lifetime.
+        Some(unsafe { core::slice::from_raw_parts_mut(line.as_mut_ptr().cast::<P>(), line.len()) })
+    } else {
+        None
     }
 }
 

@@ -96,7 +96,15 @@ type Fragments = FragmentMemory<
     POOL,
 >;
 /// The z-buffer's band (one pixel in the A-buffer builds).
-type Depths = ZBufferMemory<{ if_used(ZBUF, WIDTH) }, { if_used(ZBUF, BAND) }>;
+type Depths = ZBufferMemory<{ if_used(ZBUF, WIDTH) }, { if_used(ZBUF, BAND) }, ZBufferPixel>;
+
+/// The z-buffer keeps its colors in the pixels of the build's line sink, so
+/// that its rows go out as copies: the PPM file's bytes on the M4, gray
+/// levels on the OLED.
+#[cfg(feature = "m4")]
+type ZBufferPixel = mcu_abuffer::sink::PackedRgb888;
+#[cfg(not(feature = "m4"))]
+type ZBufferPixel = embedded_graphics_core::pixelcolor::Gray4;
 
 // The build script's memory check counted these very types.
 const _: () = assert!(
