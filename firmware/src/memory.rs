@@ -350,15 +350,15 @@ pub mod defaults {
     pub const FIXED_SLOTS: u8 = 3;
     /// Entries of the carried-colors table
     /// ([`WorkspaceMemory`](super::WorkspaceMemory)'s `CARRIED`), 80 bytes
-    /// each (a wide quadratic takes two): 8,320 bytes, within the 8,360
-    /// that 55 entries of the former 152 bytes took. In 6-row bands the
-    /// built-in scenes fill the table in their busiest bands (an entry stays
-    /// until its triangle ends, asked for or not); what does not fit is set
-    /// up again: in frame 0, 58 color setups on the teapot and 255 on the
-    /// starfighter that a table of 256 entries would spare (144 entries
-    /// would spare all but 6 and 99, for 3,200 bytes of the SRAM kept
-    /// free; `docs/m4-benchmark-history.md`).
-    pub const CARRIED_COLORS: usize = 104;
+    /// each (a wide quadratic takes two): 9,280 bytes (104 entries before
+    /// lines were resolved into the sink's memory; the 960 bytes of the
+    /// workspace's line went to 12 more). In 6-row bands the built-in
+    /// scenes fill the table in their busiest bands (an entry stays until
+    /// its triangle ends, asked for or not); what does not fit is set up
+    /// again: in frame 0, 39 color setups on the teapot and 194 on the
+    /// starfighter that a table of 256 entries would spare (58 and 255 with
+    /// 104 entries; `docs/m4-benchmark-history.md`).
+    pub const CARRIED_COLORS: usize = 116;
     const _: () = assert!(CARRIED_COLORS <= crate::color_carry::MAX_ENTRIES);
     /// Bytes of RAM the firmware build scripts and `host-sim fit` keep free
     /// for the stack (the deepest frame measured is about 7.6 KB).
