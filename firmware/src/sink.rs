@@ -1,5 +1,8 @@
-//! Where resolved lines go: a small trait, an adapter for any embedded-graphics
-//! display, and an in-memory image.
+//! Where resolved lines go: the [`LineSink`] trait, whose sinks hand the
+//! renderer their own memory to resolve each line into, in their own pixel
+//! format ([`LinePixel`]: the big-endian RGB565 of SPI displays, the packed
+//! RGB888 of image files, embedded-graphics' colors); an adapter for any
+//! embedded-graphics display; and an in-memory image.
 
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};

@@ -55,7 +55,7 @@ pub struct FitArgs {
     #[arg(long, default_value_t = defaults::STACK_RESERVE_BYTES)]
     pub stack: usize,
     /// Entries of the carried-colors table in the frame workspace (color
-    /// planes kept for the next band; 160 bytes each, 0 for none).
+    /// planes kept for the next band; 80 bytes each, 0 for none).
     #[arg(long, default_value_t = defaults::CARRIED_COLORS)]
     pub carried: usize,
     /// Also run a turntable of this many frames on the host: worst pool peak.
