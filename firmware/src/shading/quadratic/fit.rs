@@ -1,7 +1,7 @@
 //! The quadratic through six samples, as a lattice polynomial.
 
 use super::{is_narrow_box, BARYCENTRIC_BITS, NARROW_QUADRATIC_DROPPED_BITS};
-use crate::fixed_point::{Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
+use crate::fixed_point::{wide_mul, wide_mul_add, Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::lighting::{clamp_q8, ColorQ8, COLOR_Q8_MAX};
 
 /// Bound on `|s0| + |su| + |sv|` (and `t`) for the quadratic fit (2^10 in value).
@@ -98,12 +98,11 @@ impl QuadraticPolynomial {
     }
 }
 
-/// `x y + z w` from Q20 factors, rounded back to Q20. Every factor is a word
-/// (the fit checks `|s0| + |su| + |sv| < 2^30` first, so twice a plane
-/// value fits too), so each product is one 32 x 32-bit multiplication.
-#[inline]
-fn mul2_q20(x: i32, y: i32, z: i32, w: i32) -> i64 {
-    (x as i64 * y as i64 + z as i64 * w as i64 + (1 << (BARYCENTRIC_BITS - 1))) >> BARYCENTRIC_BITS
+/// A product of two Q20 plane values (a [`wide_mul`], or a sum of them)
+/// rounded back to Q20: a monomial's mantissa.
+#[inline(always)]
+fn round_q20(v: i64) -> i64 {
+    (v + (1 << (BARYCENTRIC_BITS - 1))) >> BARYCENTRIC_BITS
 }
 
 /// Bits needed for `n >= 1`: the smallest `p` with `2^p > n`.
@@ -260,13 +259,13 @@ impl FitBasis {
 }
 
 /// A monomial mantissa of the fit: `i64`, or `i32` when the planes are small
-/// enough for every mantissa to fit (then each product is one 32 x 32-bit
-/// multiplication).
+/// enough for every mantissa to fit (then each product with a weight is one
+/// 32 x 32-bit multiply-accumulate).
 pub(super) trait Monomial: Copy {
     /// The mantissa `v` (within this type's range).
     fn from_mantissa(v: i64) -> Self;
-    /// `w m` for a weight `w` below 2^20.
-    fn weighted(self, w: i64) -> i64;
+    /// `acc + w m` for a weight `w` below 2^20 (the sum fits `i64`).
+    fn weighted_add(self, acc: i64, w: i32) -> i64;
 }
 
 impl Monomial for i64 {
@@ -275,8 +274,8 @@ impl Monomial for i64 {
         v
     }
     #[inline(always)]
-    fn weighted(self, w: i64) -> i64 {
-        w as i32 as i64 * self
+    fn weighted_add(self, acc: i64, w: i32) -> i64 {
+        acc + w as i64 * self
     }
 }
 
@@ -286,17 +285,33 @@ impl Monomial for i32 {
         v as i32
     }
     #[inline(always)]
-    fn weighted(self, w: i64) -> i64 {
-        w as i32 as i64 * self as i64
+    fn weighted_add(self, acc: i64, w: i32) -> i64 {
+        wide_mul_add(acc, w, self)
     }
 }
 
-/// The three channels' polynomials over `basis`: the monomials of `s²`, `t²`
-/// and `s t` (coefficients of `[u², v², uv, u, v, 1]`), then each channel's
-/// six coefficients. Straight-line code with no branch between the channels,
-/// so the compiler keeps each `i32` monomial's products 32 x 32-bit; out of
-/// line, one copy per monomial type, so neither copy's registers burden the
-/// caller's (0.2 M fewer instructions a teapot frame than inline).
+/// The monomial `x y` of two Q20 plane values (words: below 2^30, or twice
+/// such a value, which `FitBasis::new` checks), Q20.
+#[inline(always)]
+fn monomial<T: Monomial>(x: i32, y: i32) -> T {
+    T::from_mantissa(round_q20(wide_mul(x, y)))
+}
+
+/// The monomial `x y + z w` of Q20 plane values, Q20.
+#[inline(always)]
+fn monomial2<T: Monomial>(x: i32, y: i32, z: i32, w: i32) -> T {
+    T::from_mantissa(round_q20(wide_mul_add(wide_mul(x, y), z, w)))
+}
+
+/// The three channels' polynomials over `basis`, coefficient by coefficient:
+/// for each of `[a, b, c, d, e, f]` the three monomials of `s²`, `t²` and
+/// `s t` that belong to it (coefficients of `[u², v², uv, u, v, 1]` over the
+/// normalized box), then the coefficient of each channel. Each product is
+/// used soon after it is made, so few values are live at once (with the
+/// products in source order, [`wide_mul`]: 742 instructions for the `i32`
+/// case on a Cortex-M4, against 910 when every monomial was made first).
+/// Out of line, one copy per monomial type, so neither copy's registers
+/// burden the caller's.
 #[inline(never)]
 pub(super) fn fit_channels<T: Monomial>(
     basis: &FitBasis,
@@ -304,111 +319,124 @@ pub(super) fn fit_channels<T: Monomial>(
 ) -> [QuadraticPolynomial; 3] {
     let [s0, su, sv] = basis.s;
     let [t0, tu, tv] = basis.t;
-    // Monomials over the normalized box, coefficients of [u², v², uv, u, v, 1], Q20.
-    let m = |x: i32, y: i32| T::from_mantissa(mul2_q20(x, y, 0, 0));
-    let m2 = |x: i32, y: i32, z: i32, w: i32| T::from_mantissa(mul2_q20(x, y, z, w));
-    let ss = [
-        m(su, su),
-        m(sv, sv),
-        m(2 * su, sv),
-        m(2 * s0, su),
-        m(2 * s0, sv),
-        m(s0, s0),
-    ];
-    let tt = [
-        m(tu, tu),
-        m(tv, tv),
-        m(2 * tu, tv),
-        m(2 * t0, tu),
-        m(2 * t0, tv),
-        m(t0, t0),
-    ];
-    let st = [
-        m(su, tu),
-        m(sv, tv),
-        m2(su, tv, sv, tu),
-        m2(s0, tu, t0, su),
-        m2(s0, tv, t0, sv),
-        m(s0, t0),
-    ];
-    let monomials = &[ss, tt, st];
-    // Q8 weights times Q20 mantissas: Q28 over the normalized box; the powers
-    // of u = i / 2^p and v = j / 2^q become shifts by `n` (below 32). On a
-    // small box the coefficients are rounded to multiples of 2^8 (see
-    // `drop`): the value over 2^(n + drop) rounded to nearest (halves up),
-    // times 2^drop, with one shift (the quotient by 2^n, floored, then its
-    // low `drop` bits cleared).
-    // `n + drop` is at most 26 (boxes up to 4096 pixels, 2^8 dropped only
-    // up to 128): the halves fit 32 bits.
-    let half = |k: usize| ((1u32 << (basis.shifts[k] + basis.drop)) >> 1) as i64;
-    let halves = [half(0), half(1), half(2), half(3), half(4), half(5)];
-    // The low bits to clear, a word: the high word passes unchanged.
-    let kept = !(((1u32 << basis.drop) - 1) as i64);
-    let round = |v: i64, k: usize| ((v + halves[k]) >> (basis.shifts[k] & 31)) & kept;
-    let channel =
-        |ch: usize| fit_channel(&ChannelWeights::of(samples, ch), basis, monomials, &round);
-    [channel(0), channel(1), channel(2)]
+    let weights = [0, 1, 2].map(|ch| ChannelWeights::of(samples, ch));
+    let m = monomial::<T>;
+    let m2 = monomial2::<T>;
+    let w = &weights;
+    let a = coefficient(w, basis, 0, [m(su, su), m(tu, tu), m(su, tu)], [0, 0]);
+    let b = coefficient(w, basis, 1, [m(sv, sv), m(tv, tv), m(sv, tv)], [0, 0]);
+    let c = coefficient(
+        w,
+        basis,
+        2,
+        [m(2 * su, sv), m(2 * tu, tv), m2(su, tv, sv, tu)],
+        [0, 0],
+    );
+    let d = coefficient(
+        w,
+        basis,
+        3,
+        [m(2 * s0, su), m(2 * t0, tu), m2(s0, tu, t0, su)],
+        [su, tu],
+    );
+    let e = coefficient(
+        w,
+        basis,
+        4,
+        [m(2 * s0, sv), m(2 * t0, tv), m2(s0, tv, t0, sv)],
+        [sv, tv],
+    );
+    let f = coefficient(w, basis, 5, [m(s0, s0), m(t0, t0), m(s0, t0)], [s0, t0]);
+    core::array::from_fn(|ch| QuadraticPolynomial {
+        a: a[ch],
+        b: b[ch],
+        c: c[ch],
+        d: d[ch],
+        e: e[ch],
+        f: f[ch],
+    })
 }
 
-/// One channel's polynomial from its weights and the shared monomials,
-/// coefficients rounded by `round` (the value and the coefficient's index).
+/// How coefficient `k` goes from the normalized box to pixel steps.
+///
+/// Q8 weights times Q20 mantissas: Q28 over the normalized box; the powers
+/// of u = i / 2^p and v = j / 2^q become shifts by `shift` (below 32). On a
+/// small box the coefficients are rounded to multiples of 2^8 (see
+/// `FitBasis::drop`): the value over 2^(shift + drop) rounded to nearest
+/// (halves up), times 2^drop, with one shift (the quotient by 2^shift,
+/// floored, then its low `drop` bits cleared). `shift + drop` is at most 26
+/// (boxes up to 4096 pixels, 2^8 dropped only up to 128): the half fits 32
+/// bits.
+#[derive(Clone, Copy)]
+struct CoefficientStep {
+    /// Added before the shift, to round.
+    half: i64,
+    /// The power of two to divide by.
+    shift: u32,
+    /// The bits kept after the shift (a word: the high word passes
+    /// unchanged).
+    kept: i64,
+}
+
+impl CoefficientStep {
+    #[inline(always)]
+    fn of(basis: &FitBasis, k: usize) -> Self {
+        Self {
+            half: ((1u32 << (basis.shifts[k] + basis.drop)) >> 1) as i64,
+            shift: basis.shifts[k] & 31,
+            kept: !(((1u32 << basis.drop) - 1) as i64),
+        }
+    }
+}
+
+/// Coefficient `k` (of `[a, b, c, d, e, f]`) of the three channels: each
+/// channel's weights times `monomials` (of `s²`, `t²`, `s t`), plus its
+/// linear weights times `linear` (the `s` and `t` planes' terms, for `d`,
+/// `e` and `f`) and its first sample (for `f`), stepped to pixels.
 #[inline(always)]
-fn fit_channel<T: Monomial>(
-    w: &ChannelWeights,
+fn coefficient<T: Monomial>(
+    weights: &[ChannelWeights; 3],
     basis: &FitBasis,
-    [ss, tt, st]: &[[T; 6]; 3],
-    round: &impl Fn(i64, usize) -> i64,
-) -> QuadraticPolynomial {
-    let [s0, su, sv] = basis.s;
-    let [t0, tu, tv] = basis.t;
-    // The weights fit 20 bits: 32 x 64-bit (or 32 x 32-bit) products with
-    // the monomials, 32 x 32-bit ones with the barycentric planes (below
-    // 2^30, checked in `FitBasis::new`).
-    #[inline(always)]
-    fn linear(w: i64, s: i32) -> i64 {
-        w as i32 as i64 * s as i64
-    }
-    #[inline(always)]
-    fn quadratic<T: Monomial>(w: &ChannelWeights, s: T, t: T, st: T) -> i64 {
-        s.weighted(w.alpha) + t.weighted(w.beta) + st.weighted(w.gamma)
-    }
-    QuadraticPolynomial {
-        a: round(quadratic(w, ss[0], tt[0], st[0]), 0),
-        b: round(quadratic(w, ss[1], tt[1], st[1]), 1),
-        c: round(quadratic(w, ss[2], tt[2], st[2]), 2),
-        d: round(
-            quadratic(w, ss[3], tt[3], st[3]) + linear(w.delta, su) + linear(w.epsilon, tu),
-            3,
-        ),
-        e: round(
-            quadratic(w, ss[4], tt[4], st[4]) + linear(w.delta, sv) + linear(w.epsilon, tv),
-            4,
-        ),
-        f: round(
-            quadratic(w, ss[5], tt[5], st[5])
-                + linear(w.delta, s0)
-                + linear(w.epsilon, t0)
-                + (w.c0 << BARYCENTRIC_BITS),
-            5,
-        ),
-    }
+    k: usize,
+    [ss, tt, st]: [T; 3],
+    [s, t]: [i32; 2],
+) -> [i64; 3] {
+    let step = CoefficientStep::of(basis, k);
+    let channel = |w: &ChannelWeights| {
+        let mut v = ss.weighted_add(step.half, w.alpha);
+        v = tt.weighted_add(v, w.beta);
+        v = st.weighted_add(v, w.gamma);
+        if k >= 3 {
+            v = wide_mul_add(v, w.delta, s);
+            v = wide_mul_add(v, w.epsilon, t);
+        }
+        if k == 5 {
+            v += (w.c0 as i64) << BARYCENTRIC_BITS;
+        }
+        (v >> step.shift) & step.kept
+    };
+    [
+        channel(&weights[0]),
+        channel(&weights[1]),
+        channel(&weights[2]),
+    ]
 }
 
 /// One channel's weights of the fit, from its six samples (Q8, within
 /// `[0, 255]`): `|α|, |β|, |δ|, |ε| < 2^18`, `|γ| < 2^19`.
 struct ChannelWeights {
-    alpha: i64,
-    beta: i64,
-    gamma: i64,
-    delta: i64,
-    epsilon: i64,
-    c0: i64,
+    alpha: i32,
+    beta: i32,
+    gamma: i32,
+    delta: i32,
+    epsilon: i32,
+    c0: i32,
 }
 
 impl ChannelWeights {
     #[inline(always)]
     fn of(samples: &QuadraticSamples, ch: usize) -> Self {
-        let sample = |v: &ColorQ8| v[ch] as i64;
+        let sample = |v: &ColorQ8| v[ch];
         let [v0, v1, v2] = &samples.vertices;
         let [v01, v12, v20] = &samples.midpoints;
         let (c0, c1, c2) = (sample(v0), sample(v1), sample(v2));
