@@ -204,8 +204,11 @@ impl DepthSetup {
         // Depth plane: z = z0 + gx (x - x0) + gy (y - y0), gradients per pixel x 2^16.
         let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
         let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
-        let dz1 = v[1].z as i64 - v[0].z as i64;
-        let dz2 = v[2].z as i64 - v[0].z as i64;
+        // Depths within `0 ..= DEPTH_MAX` (2^24): their differences are
+        // words, and each product below one 32 x 32-bit multiplication
+        // (wrapping: a depth beyond the range gives a wrong plane, no panic).
+        let dz1 = (v[1].z as i32).wrapping_sub(v[0].z as i32) as i64;
+        let dz2 = (v[2].z as i32).wrapping_sub(v[0].z as i32) as i64;
         let shift = 16 + SUBPIXEL_BITS;
         // One reciprocal of the area serves every plane of the triangle.
         let reciprocal = Reciprocal::new(area2 as u64);
