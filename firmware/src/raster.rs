@@ -362,7 +362,7 @@ where
     let mut y = rows.first;
     loop {
         let row = y - rows.band_y0;
-        let mut z = z_row + span.start as i64 * dz;
+        let mut z = z_row + span.start as u32 as i64 * dz;
         for k in span.start..span.end {
             asked += 1;
             let bound = 16 * fragment_depth(z) as i64 - reach;
@@ -620,7 +620,7 @@ fn insert_full_rows<M, B, E, W>(
             walk.skip(&mut color, span.start as u16);
             let run = FullRun {
                 len: (span.end - span.start) as u16,
-                depth: z_row + span.start as i64 * setup.depth.dx,
+                depth: z_row + span.start as u32 as i64 * setup.depth.dx,
                 depth_step: setup.depth.dx,
                 template,
             };
@@ -878,13 +878,15 @@ where
             // loops few registers, the row's value plus `k` steps, one
             // multiply-accumulate where a pixel is visited (the same
             // integers; measured in `docs/m4-benchmark-history.md`).
+            // Columns are counted from the box's first, never negative: as
+            // `u32`, one multiplication fewer than a signed column.
             let stepped = M::SAMPLES == 1;
-            let mut z = z_row + span.start as i64 * dz;
+            let mut z = z_row + span.start as u32 as i64 * dz;
             let depth_at = |k: i32, z: i64| {
                 if stepped {
                     z
                 } else {
-                    z_row + k as i64 * dz
+                    z_row + k as u32 as i64 * dz
                 }
             };
             // Where to go on from column `k` (counted from the box's first).
