@@ -10,9 +10,12 @@ use std::process::{Command, Stdio};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-/// Builds of the one firmware target folder must not overlap: a build replaces the
-/// ELF the previous one produced.
-static BUILD_LOCK: Mutex<()> = Mutex::new(());
+/// Builds in the QEMU firmware's target folder must not overlap: a build replaces
+/// the ELF the previous one produced. (The board firmware has its own folder and
+/// lock, so a board build and a QEMU build can run side by side.)
+static QEMU_BUILD_LOCK: Mutex<()> = Mutex::new(());
+/// [`QEMU_BUILD_LOCK`] for the board firmware's target folder.
+static BOARD_BUILD_LOCK: Mutex<()> = Mutex::new(());
 
 /// The repository root (where `firmware/` is).
 pub fn repo_root() -> PathBuf {
@@ -206,7 +209,7 @@ fn build_qemu_firmware(
     debug_info: DebugInfo,
     dest: &Path,
 ) -> Result<(), String> {
-    let _guard = BUILD_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let _guard = QEMU_BUILD_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let root = repo_root();
     let mut all_features = vec![target.feature()];
     all_features.extend_from_slice(features);
@@ -284,7 +287,7 @@ fn cargo_build_in<K: AsRef<std::ffi::OsStr>>(
 /// Builds the STM32F411 board firmware (`firmware/blackpill`) with the `BOARD_*`
 /// variables in `env`, without debug information, and copies the ELF to `dest`.
 pub fn build_board(env: &[(&str, String)], dest: &Path) -> Result<(), String> {
-    let _guard = BUILD_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let _guard = BOARD_BUILD_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let dir = repo_root().join("firmware/blackpill");
     let args = ["--target", "thumbv7em-none-eabihf"];
     cargo_build_in(&dir, &args, env, DebugInfo::Dropped)?;
