@@ -29,12 +29,30 @@ fn workdir(name: &str) -> ScratchDir {
     system_tests::scratch_dir(&format!("qemu-{name}"))
 }
 
-fn build_and_run(name: &str, config: &FirmwareConfig) -> FirmwareRun {
-    let dir = workdir(name);
-    let elf = dir.join("firmware.elf");
-    build_m4(config, &[], &elf).unwrap_or_else(|e| panic!("firmware build for {name} failed: {e}"));
-    run_m4(&elf, &dir, Duration::from_secs(300))
-        .unwrap_or_else(|e| panic!("QEMU run for {name} failed: {e}"))
+/// A firmware built into a scratch folder of its own.
+struct BuiltFirmware {
+    name: String,
+    dir: ScratchDir,
+    elf: std::path::PathBuf,
+}
+
+impl BuiltFirmware {
+    fn build(name: &str, config: &FirmwareConfig) -> Self {
+        let dir = workdir(name);
+        let elf = dir.join("firmware.elf");
+        build_m4(config, &[], &elf)
+            .unwrap_or_else(|e| panic!("firmware build for {name} failed: {e}"));
+        Self {
+            name: name.into(),
+            dir,
+            elf,
+        }
+    }
+
+    fn run(&self) -> FirmwareRun {
+        run_m4(&self.elf, &self.dir, Duration::from_secs(300))
+            .unwrap_or_else(|e| panic!("QEMU run for {} failed: {e}", self.name))
+    }
 }
 
 fn host_config(config: &FirmwareConfig) -> RenderConfig {
@@ -65,9 +83,11 @@ fn host_config(config: &FirmwareConfig) -> RenderConfig {
     }
 }
 
-/// Renders every frame of `config` on the host and compares with the firmware's.
-fn assert_parity(name: &str, config: &FirmwareConfig) -> FirmwareRun {
-    let run = build_and_run(name, config);
+/// Builds and runs the firmware for `config`, renders every frame on the host
+/// and compares with the firmware's.
+fn assert_parity(name: &str, config: &FirmwareConfig) -> (BuiltFirmware, FirmwareRun) {
+    let firmware = BuiltFirmware::build(name, config);
+    let run = firmware.run();
     assert_eq!(
         run.frames.len(),
         config.frames as usize,
@@ -100,7 +120,7 @@ fn assert_parity(name: &str, config: &FirmwareConfig) -> FirmwareRun {
             "{name} frame {i}: statistics differ"
         );
     }
-    run
+    (firmware, run)
 }
 
 #[test]
@@ -118,7 +138,7 @@ fn firmware_frames_equal_host_frames_and_counts_are_deterministic() {
             frames: 3,
             ..FirmwareConfig::for_method("shared")
         };
-        let run = assert_parity(scene, &config);
+        let (firmware, run) = assert_parity(scene, &config);
         for s in &run.stats {
             assert!(s.instructions > 0 && s.output_instructions < s.instructions);
         }
@@ -132,10 +152,7 @@ fn firmware_frames_equal_host_frames_and_counts_are_deterministic() {
                 );
             }
             // The same binary twice: the same instruction counts, to the tick.
-            let dir = workdir("teapot-again");
-            let elf = dir.join("firmware.elf");
-            build_m4(&config, &[], &elf).unwrap();
-            let again = run_m4(&elf, &dir, Duration::from_secs(300)).unwrap();
+            let again = firmware.run();
             let counts =
                 |r: &FirmwareRun| r.stats.iter().map(|s| s.instructions).collect::<Vec<_>>();
             assert_eq!(counts(&run), counts(&again));
@@ -145,7 +162,7 @@ fn firmware_frames_equal_host_frames_and_counts_are_deterministic() {
         frames: 3,
         ..FirmwareConfig::for_method("zbuffer")
     };
-    let run = assert_parity("teapot-zbuffer", &zbuffer);
+    let (_, run) = assert_parity("teapot-zbuffer", &zbuffer);
     for s in &run.stats {
         assert!(
             s.instructions <= TEAPOT_ZBUFFER_MAX_INSTRUCTIONS,
@@ -173,7 +190,7 @@ fn split_bands_on_the_device_looks_like_unlimited() {
         frames: 2,
         ..FirmwareConfig::default()
     };
-    let run = assert_parity("teapot-split-bands", &config);
+    let (_, run) = assert_parity("teapot-split-bands", &config);
     let scene = to_fixed(&builtin_scene(&config.scene, 240, 240).unwrap()).unwrap();
     let unlimited = RenderConfig {
         method: Method::Unlimited,
