@@ -1,7 +1,8 @@
 //! The system tests that build firmware (the QEMU machines' and the board's), one
 //! module per file beside this one, built as one binary (see `tests/Cargo.toml`).
-//! In one binary the test threads overlap one file's firmware builds with
-//! another's QEMU runs, which were one after another as binaries of their own.
+//! Their time is the firmware builds (a QEMU run takes a fraction of a second
+//! to a few seconds); in one binary the board's builds run beside the QEMU
+//! firmware's, each in its own target folder (`xtask::firmware`).
 //! One file's tests run with, for example,
 //! `cargo test -p system-tests --test firmware qemu_m4::`.
 
