@@ -238,34 +238,3 @@ fn method_name(method: Method) -> String {
         .map(|v| v.get_name().to_string())
         .unwrap_or_else(|| format!("{method:?}"))
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_streak_along_band_boundaries_shows_in_the_band_row_ratio() {
-        // 4 x 8 image, bands of 4 rows: every band's last row is off.
-        let reference = vec![100u8; 4 * 8 * 3];
-        let mut image = reference.clone();
-        for y in [3usize, 7] {
-            for x in 0..4 {
-                image[3 * (4 * y + x)] = 140;
-            }
-        }
-        let e = frame_errors(&image, &reference, 4, 4);
-        assert_eq!(e.speckles, 8);
-        // All the error sits in one of four row positions.
-        assert!((e.worst_band_row - 4.0).abs() < 1e-9);
-        let rows = row_errors(&image, &reference, 4);
-        assert_eq!(rows.len(), 8);
-        // Row 3: one channel of four pixels off by 40, over 12 channels.
-        assert!((rows[3] - 4.0 * 1600.0 / 12.0).abs() < 1e-9);
-        assert_eq!(rows[0], 0.0);
-        let same = frame_errors(&reference, &reference, 4, 4);
-        assert_eq!(
-            (same.nmse, same.speckles, same.worst_band_row),
-            (0.0, 0, 0.0)
-        );
-    }
-}

@@ -208,30 +208,3 @@ pub fn run_compare(args: &CompareArgs) -> Result<(), String> {
     }
     Ok(())
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn nmse_of_hand_made_values() {
-        let reference = [10u8, 20, 30, 0, 0, 0];
-        let image = [13u8, 20, 26, 0, 0, 1];
-        // (9 + 0 + 16 + 1) / (100 + 400 + 900)
-        assert_eq!(nmse(&image, &reference), 26.0 / 1400.0);
-        assert_eq!(nmse(&reference, &reference), 0.0);
-        assert_eq!(nmse(&[0, 0, 0], &[0, 0, 0]), 0.0);
-        assert_eq!(nmse(&[1, 0, 0], &[0, 0, 0]), f64::INFINITY);
-        let d = compare_rgb(&image, &reference).unwrap();
-        assert_eq!((d.max_abs_diff, d.differing_pixels, d.pixels), (4, 2, 2));
-        assert!((d.psnr_db - 10.0 * (65025.0f64 / (26.0 / 6.0)).log10()).abs() < 1e-12);
-        assert!(compare_rgb(&image, &reference[..3]).is_err());
-    }
-
-    #[test]
-    fn heat_map_is_black_where_equal() {
-        let heat = diff_heat_map(&[5, 5, 5, 9, 9, 9], &[5, 5, 5, 0, 9, 9], 0);
-        assert_eq!(&heat[..3], &[0, 0, 0]);
-        assert_ne!(&heat[3..], &[0, 0, 0]);
-    }
-}

@@ -125,7 +125,9 @@ pub fn histogram(counts: impl Iterator<Item = u32>) -> Vec<u64> {
     h
 }
 
-fn mean_over_covered(h: &[u64]) -> f64 {
+/// The mean depth complexity over the covered pixels of histogram `h` (pixels
+/// by fragment count; the empty pixels of `h[0]` left out).
+pub fn mean_over_covered(h: &[u64]) -> f64 {
     let covered: u64 = h.iter().skip(1).sum();
     let total: u64 = h.iter().enumerate().map(|(n, &c)| n as u64 * c).sum();
     total as f64 / covered.max(1) as f64
@@ -447,18 +449,4 @@ pub fn run_stats(args: &StatsArgs, desc: SceneDesc) -> Result<(), String> {
         }
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn histogram_counts_pixels() {
-        assert_eq!(histogram([0, 2, 2, 5].into_iter()), vec![1, 0, 2, 0, 0, 1]);
-        assert_eq!(histogram(std::iter::empty()), vec![0]);
-        assert_eq!(mean_over_covered(&[7, 1, 0, 1]), 2.0);
-        assert_eq!(file_tag("scenes/a b.toml"), "a-b");
-        assert_eq!(file_tag("layers:10:2.5:1"), "layers-10-2.5-1");
-    }
 }

@@ -47,22 +47,3 @@ pub fn count_heat_map(counts: &[u16], max: u32) -> Vec<u8> {
 pub fn hex(c: [u8; 3]) -> String {
     format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ramp_ends_and_order() {
-        assert_eq!(heat_color(0.0), [0, 0, 4]);
-        assert_eq!(heat_color(1.0), [252, 255, 164]);
-        assert_eq!(heat_color(7.0), [252, 255, 164]);
-        assert_eq!(count_color(0, 8), [0, 0, 0]);
-        // Brightness grows with the count.
-        let luma = |c: [u8; 3]| 3 * c[0] as u32 + 6 * c[1] as u32 + c[2] as u32;
-        for n in 1..8 {
-            assert!(luma(count_color(n + 1, 8)) > luma(count_color(n, 8)), "{n}");
-        }
-        assert_eq!(hex([255, 0, 16]), "#ff0010");
-    }
-}

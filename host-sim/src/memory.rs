@@ -110,26 +110,3 @@ pub fn band_memory(
         count_bytes: config.pixels(),
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn seed_formulas_with_real_sizes() {
-        // 240 x 16 band, 1 main slot, 2 addresses, 1,000 pool slots, 14-byte fragments.
-        let m = band_memory(240, 16, Grid::G4x4, 1, 2, 1000);
-        assert_eq!(m.fragment_bytes, 14);
-        assert_eq!(m.address_bytes, 2);
-        assert_eq!(m.main_buffer_bytes, 3840 * (14 + 2 * 2));
-        assert_eq!(m.pool_bytes, 14_000);
-        assert_eq!(m.total_bytes, 3840 * 18 + 14_000);
-        assert_eq!(m.fixed_equivalent_bytes, 3840 * 3 * 14);
-        // Fixed slots: no pool, no addresses, M_shared = M_fixed.
-        let f = band_memory(240, 16, Grid::G8x8, 3, 0, 0);
-        assert_eq!(f.total_bytes, 3840 * 3 * 20);
-        assert_eq!(f.fixed_to_shared_ratio(), 1.0);
-        assert_eq!(address_bytes(65_535), 2);
-        assert_eq!(address_bytes(65_536), 4);
-    }
-}

@@ -110,7 +110,7 @@ fn trim(v: f64) -> String {
 }
 
 /// Nice tick positions covering `[lo, hi]` on a linear axis.
-fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
+pub fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
     let span = (hi - lo).max(1e-12);
     let raw = span / 6.0;
     let mag = 10f64.powf(raw.log10().floor());
@@ -440,65 +440,4 @@ pub fn bar_panels_svg(
     }
     out.push_str("</svg>\n");
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn numbers_and_ticks() {
-        assert_eq!(short_number(0.0), "0");
-        assert_eq!(short_number(1e-5), "1e-5");
-        assert_eq!(short_number(2.5e-4), "2.5e-4");
-        assert_eq!(short_number(0.25), "0.25");
-        assert_eq!(short_number(1500.0), "1.5k");
-        assert_eq!(linear_ticks(0.0, 10.0), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
-    }
-
-    #[test]
-    fn chart_is_well_formed_svg() {
-        let chart = LineChart {
-            title: "a < b & c".into(),
-            x_label: "x".into(),
-            y_label: "y".into(),
-            x_scale: Scale::Linear,
-            y_scale: Scale::Log10,
-            series: vec![Series {
-                name: "s".into(),
-                color: PALETTE[0],
-                dashed: true,
-                points: vec![
-                    Point {
-                        x: 1.0,
-                        y: 1e-3,
-                        label: Some("1".into()),
-                    },
-                    Point {
-                        x: 2.0,
-                        y: 0.0,
-                        label: None,
-                    },
-                ],
-            }],
-            note: Some("n".into()),
-        };
-        let svg = chart.to_svg();
-        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
-        assert!(svg.contains("a &lt; b &amp; c"));
-        assert_eq!(svg.matches("<circle").count(), 3);
-        let bars = bar_panels_svg(
-            "t",
-            "n",
-            &[BarPanel {
-                title: "p".into(),
-                y_label: "%".into(),
-                categories: vec!["0".into(), "1".into()],
-                values: vec![10.0, 90.0],
-                colors: vec![[0, 0, 0], [255, 0, 0]],
-            }],
-            None,
-        );
-        assert_eq!(bars.matches("<rect").count(), 3);
-    }
 }

@@ -720,29 +720,3 @@ pub fn run_sweep_command(
     );
     Ok(())
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn configurations_follow_the_split_rule() {
-        let c = sweep_configs(&[1, 2, 3], &[Policy::FixedMerge, Policy::Shared], &[1, 2]);
-        let shared: Vec<(u8, u8, u8)> = c
-            .iter()
-            .filter(|c| c.policy == Policy::Shared)
-            .map(|c| (c.budget, c.main, c.extra))
-            .collect();
-        assert_eq!(
-            shared,
-            vec![(1, 1, 0), (2, 1, 1), (2, 2, 0), (3, 1, 2), (3, 2, 1)]
-        );
-        let fixed: Vec<(u8, u8, u8)> = c
-            .iter()
-            .filter(|c| c.policy == Policy::FixedMerge)
-            .map(|c| (c.budget, c.main, c.extra))
-            .collect();
-        assert_eq!(fixed, vec![(1, 1, 0), (2, 2, 0), (3, 3, 0)]);
-        assert_eq!(turntable_angles(4, 10.0), vec![10.0, 100.0, 190.0, 280.0]);
-    }
-}

@@ -245,38 +245,3 @@ pub fn run_tune(args: &TuneArgs) -> Result<Option<Candidate>, String> {
     );
     Ok(Some(best))
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn args(ram: &str) -> TuneArgs {
-        TuneArgs {
-            scene: "spheres".into(),
-            frames: 2,
-            ram: parse_bytes(ram).unwrap(),
-            stack: defaults::STACK_RESERVE_BYTES,
-            nmse: 1e-4,
-            size: 64,
-            show: 3,
-        }
-    }
-
-    #[test]
-    fn the_winner_fits_and_meets_the_target() {
-        let result = search(&args("112K")).unwrap();
-        assert!(result.fitting > 0 && result.fitting <= result.tried);
-        let best = result.passing.first().expect("a configuration passes");
-        assert!(best.bytes <= 112 * 1024);
-        assert!(best.nmse <= 1e-4);
-        assert!(result.passing.windows(2).all(|w| w[0].time <= w[1].time));
-    }
-
-    #[test]
-    fn too_little_memory_says_by_how_much() {
-        let result = search(&args("8K")).unwrap();
-        assert_eq!(result.fitting, 0);
-        assert!(result.passing.is_empty());
-        assert!(result.smallest > 8 * 1024);
-    }
-}

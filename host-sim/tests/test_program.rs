@@ -397,3 +397,256 @@ fn sweep_stats_and_turntable_commands_write_their_files() {
     ]);
     assert!(!o.status.success());
 }
+
+/// The test program's parts, each through its module's public functions.
+mod parts {
+    /// The library and the program are not built for tests (`Cargo.toml`), so
+    /// a test written in `src/` would never run: there are none.
+    #[test]
+    fn the_sources_hold_no_tests() {
+        let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let mut with_tests = Vec::new();
+        for entry in std::fs::read_dir(&src).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap_or_default();
+            if text.contains("#[test]") || text.contains("#[cfg(test)]") {
+                with_tests.push(path.display().to_string());
+            }
+        }
+        assert!(
+            with_tests.is_empty(),
+            "{with_tests:?} hold tests that never run: move them to host-sim/tests/"
+        );
+    }
+
+    mod sweep {
+        use host_sim::sweep::*;
+
+        #[test]
+        fn configurations_follow_the_split_rule() {
+            let c = sweep_configs(&[1, 2, 3], &[Policy::FixedMerge, Policy::Shared], &[1, 2]);
+            let shared: Vec<(u8, u8, u8)> = c
+                .iter()
+                .filter(|c| c.policy == Policy::Shared)
+                .map(|c| (c.budget, c.main, c.extra))
+                .collect();
+            assert_eq!(
+                shared,
+                vec![(1, 1, 0), (2, 1, 1), (2, 2, 0), (3, 1, 2), (3, 2, 1)]
+            );
+            let fixed: Vec<(u8, u8, u8)> = c
+                .iter()
+                .filter(|c| c.policy == Policy::FixedMerge)
+                .map(|c| (c.budget, c.main, c.extra))
+                .collect();
+            assert_eq!(fixed, vec![(1, 1, 0), (2, 2, 0), (3, 3, 0)]);
+            assert_eq!(turntable_angles(4, 10.0), vec![10.0, 100.0, 190.0, 280.0]);
+        }
+    }
+
+    mod bounded {
+        use host_sim::bounded::*;
+
+        #[test]
+        fn a_streak_along_band_boundaries_shows_in_the_band_row_ratio() {
+            // 4 x 8 image, bands of 4 rows: every band's last row is off.
+            let reference = vec![100u8; 4 * 8 * 3];
+            let mut image = reference.clone();
+            for y in [3usize, 7] {
+                for x in 0..4 {
+                    image[3 * (4 * y + x)] = 140;
+                }
+            }
+            let e = frame_errors(&image, &reference, 4, 4);
+            assert_eq!(e.speckles, 8);
+            // All the error sits in one of four row positions.
+            assert!((e.worst_band_row - 4.0).abs() < 1e-9);
+            let rows = row_errors(&image, &reference, 4);
+            assert_eq!(rows.len(), 8);
+            // Row 3: one channel of four pixels off by 40, over 12 channels.
+            assert!((rows[3] - 4.0 * 1600.0 / 12.0).abs() < 1e-9);
+            assert_eq!(rows[0], 0.0);
+            let same = frame_errors(&reference, &reference, 4, 4);
+            assert_eq!(
+                (same.nmse, same.speckles, same.worst_band_row),
+                (0.0, 0, 0.0)
+            );
+        }
+    }
+
+    mod tune {
+        use host_sim::fit::parse_bytes;
+        use host_sim::tune::*;
+        use mcu_abuffer::memory::defaults;
+
+        fn args(ram: &str) -> TuneArgs {
+            TuneArgs {
+                scene: "spheres".into(),
+                frames: 2,
+                ram: parse_bytes(ram).unwrap(),
+                stack: defaults::STACK_RESERVE_BYTES,
+                nmse: 1e-4,
+                size: 64,
+                show: 3,
+            }
+        }
+
+        #[test]
+        fn the_winner_fits_and_meets_the_target() {
+            let result = search(&args("112K")).unwrap();
+            assert!(result.fitting > 0 && result.fitting <= result.tried);
+            let best = result.passing.first().expect("a configuration passes");
+            assert!(best.bytes <= 112 * 1024);
+            assert!(best.nmse <= 1e-4);
+            assert!(result.passing.windows(2).all(|w| w[0].time <= w[1].time));
+        }
+
+        #[test]
+        fn too_little_memory_says_by_how_much() {
+            let result = search(&args("8K")).unwrap();
+            assert_eq!(result.fitting, 0);
+            assert!(result.passing.is_empty());
+            assert!(result.smallest > 8 * 1024);
+        }
+    }
+
+    mod plot {
+        use host_sim::plot::*;
+
+        #[test]
+        fn numbers_and_ticks() {
+            assert_eq!(short_number(0.0), "0");
+            assert_eq!(short_number(1e-5), "1e-5");
+            assert_eq!(short_number(2.5e-4), "2.5e-4");
+            assert_eq!(short_number(0.25), "0.25");
+            assert_eq!(short_number(1500.0), "1.5k");
+            assert_eq!(linear_ticks(0.0, 10.0), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
+        }
+
+        #[test]
+        fn chart_is_well_formed_svg() {
+            let chart = LineChart {
+                title: "a < b & c".into(),
+                x_label: "x".into(),
+                y_label: "y".into(),
+                x_scale: Scale::Linear,
+                y_scale: Scale::Log10,
+                series: vec![Series {
+                    name: "s".into(),
+                    color: PALETTE[0],
+                    dashed: true,
+                    points: vec![
+                        Point {
+                            x: 1.0,
+                            y: 1e-3,
+                            label: Some("1".into()),
+                        },
+                        Point {
+                            x: 2.0,
+                            y: 0.0,
+                            label: None,
+                        },
+                    ],
+                }],
+                note: Some("n".into()),
+            };
+            let svg = chart.to_svg();
+            assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+            assert!(svg.contains("a &lt; b &amp; c"));
+            assert_eq!(svg.matches("<circle").count(), 3);
+            let bars = bar_panels_svg(
+                "t",
+                "n",
+                &[BarPanel {
+                    title: "p".into(),
+                    y_label: "%".into(),
+                    categories: vec!["0".into(), "1".into()],
+                    values: vec![10.0, 90.0],
+                    colors: vec![[0, 0, 0], [255, 0, 0]],
+                }],
+                None,
+            );
+            assert_eq!(bars.matches("<rect").count(), 3);
+        }
+    }
+
+    mod heat {
+        use host_sim::heat::*;
+
+        #[test]
+        fn ramp_ends_and_order() {
+            assert_eq!(heat_color(0.0), [0, 0, 4]);
+            assert_eq!(heat_color(1.0), [252, 255, 164]);
+            assert_eq!(heat_color(7.0), [252, 255, 164]);
+            assert_eq!(count_color(0, 8), [0, 0, 0]);
+            // Brightness grows with the count.
+            let luma = |c: [u8; 3]| 3 * c[0] as u32 + 6 * c[1] as u32 + c[2] as u32;
+            for n in 1..8 {
+                assert!(luma(count_color(n + 1, 8)) > luma(count_color(n, 8)), "{n}");
+            }
+            assert_eq!(hex([255, 0, 16]), "#ff0010");
+        }
+    }
+
+    mod memory {
+        use host_sim::memory::*;
+        use host_sim::render::Grid;
+
+        #[test]
+        fn seed_formulas_with_real_sizes() {
+            // 240 x 16 band, 1 main slot, 2 addresses, 1,000 pool slots, 14-byte fragments.
+            let m = band_memory(240, 16, Grid::G4x4, 1, 2, 1000);
+            assert_eq!(m.fragment_bytes, 14);
+            assert_eq!(m.address_bytes, 2);
+            assert_eq!(m.main_buffer_bytes, 3840 * (14 + 2 * 2));
+            assert_eq!(m.pool_bytes, 14_000);
+            assert_eq!(m.total_bytes, 3840 * 18 + 14_000);
+            assert_eq!(m.fixed_equivalent_bytes, 3840 * 3 * 14);
+            // Fixed slots: no pool, no addresses, M_shared = M_fixed.
+            let f = band_memory(240, 16, Grid::G8x8, 3, 0, 0);
+            assert_eq!(f.total_bytes, 3840 * 3 * 20);
+            assert_eq!(f.fixed_to_shared_ratio(), 1.0);
+            assert_eq!(address_bytes(65_535), 2);
+            assert_eq!(address_bytes(65_536), 4);
+        }
+    }
+
+    mod compare {
+        use host_sim::compare::*;
+
+        #[test]
+        fn nmse_of_hand_made_values() {
+            let reference = [10u8, 20, 30, 0, 0, 0];
+            let image = [13u8, 20, 26, 0, 0, 1];
+            // (9 + 0 + 16 + 1) / (100 + 400 + 900)
+            assert_eq!(nmse(&image, &reference), 26.0 / 1400.0);
+            assert_eq!(nmse(&reference, &reference), 0.0);
+            assert_eq!(nmse(&[0, 0, 0], &[0, 0, 0]), 0.0);
+            assert_eq!(nmse(&[1, 0, 0], &[0, 0, 0]), f64::INFINITY);
+            let d = compare_rgb(&image, &reference).unwrap();
+            assert_eq!((d.max_abs_diff, d.differing_pixels, d.pixels), (4, 2, 2));
+            assert!((d.psnr_db - 10.0 * (65025.0f64 / (26.0 / 6.0)).log10()).abs() < 1e-12);
+            assert!(compare_rgb(&image, &reference[..3]).is_err());
+        }
+
+        #[test]
+        fn heat_map_is_black_where_equal() {
+            let heat = diff_heat_map(&[5, 5, 5, 9, 9, 9], &[5, 5, 5, 0, 9, 9], 0);
+            assert_eq!(&heat[..3], &[0, 0, 0]);
+            assert_ne!(&heat[3..], &[0, 0, 0]);
+        }
+    }
+
+    mod complexity {
+        use host_sim::complexity::*;
+
+        #[test]
+        fn histogram_counts_pixels() {
+            assert_eq!(histogram([0, 2, 2, 5].into_iter()), vec![1, 0, 2, 0, 0, 1]);
+            assert_eq!(histogram(std::iter::empty()), vec![0]);
+            assert_eq!(mean_over_covered(&[7, 1, 0, 1]), 2.0);
+            assert_eq!(file_tag("scenes/a b.toml"), "a-b");
+            assert_eq!(file_tag("layers:10:2.5:1"), "layers-10-2.5-1");
+        }
+    }
+}
