@@ -103,6 +103,22 @@ fn toolchain_targets() -> Result<Vec<String>, String> {
     Ok(targets)
 }
 
+/// Sets up a `cargo build` to lint the workspace's own crates with clippy,
+/// warnings denied, while it builds them: clippy's driver takes rustc's place
+/// for them (cargo's `RUSTC_WORKSPACE_WRAPPER`) and reads its arguments from
+/// `CLIPPY_ARGS`, separated as `cargo clippy -- -D warnings` passes them.
+fn linted(build: &mut Command) -> Result<&mut Command, String> {
+    let driver = output(
+        Command::new("rustup")
+            .args(["which", "clippy-driver"])
+            .current_dir(repo_root()),
+    )?;
+    Ok(build.env("RUSTC_WORKSPACE_WRAPPER", driver.trim()).env(
+        "CLIPPY_ARGS",
+        "-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__",
+    ))
+}
+
 /// The workspace's `rust-version`.
 fn minimum_rust_version() -> Result<String, String> {
     let path = repo_root().join("Cargo.toml");
@@ -171,18 +187,21 @@ pub fn run() -> Result<(), String> {
     status(&mut cargo_args(
         "clippy --workspace --all-targets -- -D warnings",
     ))?;
-    // The firmware workspaces' release builds below and in the tests leave out
-    // the debug information (`firmware::DebugInfo`). So do their lints: the
-    // build scripts and procedural macros they compile are then the builds' too.
+    // The firmware workspaces are linted while they build: cargo runs clippy's
+    // driver in place of rustc for their own crates (as `cargo clippy` does,
+    // which only checks) and rustc for the dependencies. Those are then
+    // compiled once, for the lints and for the tests' firmware builds, instead
+    // of checked for one and built for the other; the lints' builds leave out
+    // the debug information as the tests' do (`firmware::DebugInfo`), or the
+    // tests would compile everything again. The board's minimal example
+    // (README, "Add it to your firmware") is among them.
     for args in [
-        "clippy --manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf -- -D warnings",
-        "clippy --manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi -- -D warnings",
-        "clippy --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --all-targets -- -D warnings",
-        // The minimal example firmware (README, "Add it to your firmware")
-        // links for the board; the tests' board builds reuse what it compiled.
-        "build --manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --example minimal",
+        "--manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf",
+        "--manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi",
+        "--manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --bins --examples",
     ] {
-        status(DebugInfo::Dropped.apply_to(&mut cargo_args(args)))?;
+        let mut build = cargo_args(&format!("build {args}"));
+        status(linted(DebugInfo::Dropped.apply_to(&mut build))?)?;
     }
 
     steps.step("the library's documentation, its private items too, builds without warnings (broken links included)");
