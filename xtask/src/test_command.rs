@@ -107,16 +107,22 @@ fn toolchain_targets() -> Result<Vec<String>, String> {
 /// warnings denied, while it builds them: clippy's driver takes rustc's place
 /// for them (cargo's `RUSTC_WORKSPACE_WRAPPER`) and reads its arguments from
 /// `CLIPPY_ARGS`, separated as `cargo clippy -- -D warnings` passes them.
-fn linted(build: &mut Command) -> Result<&mut Command, String> {
-    let driver = output(
+/// `driver` is [`clippy_driver`]'s path.
+fn linted<'a>(build: &'a mut Command, driver: &str) -> &'a mut Command {
+    build.env("RUSTC_WORKSPACE_WRAPPER", driver).env(
+        "CLIPPY_ARGS",
+        "-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__",
+    )
+}
+
+/// The path of the pinned toolchain's clippy driver.
+fn clippy_driver() -> Result<String, String> {
+    let path = output(
         Command::new("rustup")
             .args(["which", "clippy-driver"])
             .current_dir(repo_root()),
     )?;
-    Ok(build.env("RUSTC_WORKSPACE_WRAPPER", driver.trim()).env(
-        "CLIPPY_ARGS",
-        "-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__",
-    ))
+    Ok(path.trim().to_string())
 }
 
 /// The workspace's `rust-version`.
@@ -195,13 +201,14 @@ pub fn run() -> Result<(), String> {
     // the debug information as the tests' do (`firmware::DebugInfo`), or the
     // tests would compile everything again. The board's minimal example
     // (README, "Add it to your firmware") is among them.
+    let driver = clippy_driver()?;
     for args in [
         "--manifest-path firmware/qemu/Cargo.toml --release --target thumbv7em-none-eabihf",
         "--manifest-path firmware/qemu/Cargo.toml --release --no-default-features --features oled --target thumbv7m-none-eabi",
         "--manifest-path firmware/blackpill/Cargo.toml --release --target thumbv7em-none-eabihf --bins --examples",
     ] {
         let mut build = cargo_args(&format!("build {args}"));
-        status(linted(DebugInfo::Dropped.apply_to(&mut build))?)?;
+        status(linted(DebugInfo::Dropped.apply_to(&mut build), &driver))?;
     }
 
     steps.step("the library's documentation, its private items too, builds without warnings (broken links included)");
