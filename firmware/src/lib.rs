@@ -144,6 +144,8 @@ mod test_rng;
 #[doc(hidden)]
 pub mod visibility;
 #[doc(hidden)]
+pub mod words;
+#[doc(hidden)]
 pub mod zbuffer;
 #[doc(hidden)]
 pub mod zbuffer_hiz;

@@ -39,6 +39,13 @@ pub trait LinePixel: Copy + 'static {
     fn fill(line: &mut [Self], value: Self) {
         line.fill(value);
     }
+
+    /// Copies `src` into `dst` (of the same length; a format may copy
+    /// several pixels at once).
+    #[inline(always)]
+    fn copy_line(dst: &mut [Self], src: &[Self]) {
+        dst.copy_from_slice(src);
+    }
 }
 
 impl LinePixel for Rgb888 {
@@ -171,6 +178,12 @@ impl LinePixel for PackedRgb888 {
         }
         quads.into_remainder().fill(value);
     }
+
+    /// Whole words where both lines allow it ([`crate::words::copy_bytes`]).
+    #[inline(always)]
+    fn copy_line(dst: &mut [Self], src: &[Self]) {
+        crate::words::copy_bytes(Self::line_bytes_mut(dst), Self::line_bytes(src));
+    }
 }
 
 /// An RGB565 pixel as two bytes, the high byte first: how SPI displays
@@ -196,6 +209,12 @@ impl LinePixel for Rgb565BigEndian {
                 .into_inner()
                 .to_be_bytes(),
         )
+    }
+
+    /// Whole words where both lines allow it ([`crate::words::copy_bytes`]).
+    #[inline(always)]
+    fn copy_line(dst: &mut [Self], src: &[Self]) {
+        crate::words::copy_bytes(Self::line_bytes_mut(dst), Self::line_bytes(src));
     }
 }
 
@@ -470,5 +489,18 @@ mod tests {
             Err(OutOfImage { y: 0 })
         );
         assert_eq!(bytes, [0, 0, 0, 0, 0, 0, 1, 2, 3, 4, 5, 6]);
+    }
+
+    /// Byte pixels copy as their bytes, word-aligned or not.
+    #[test]
+    fn byte_pixel_lines_copy_whole() {
+        let pixels: [PackedRgb888; 9] = core::array::from_fn(|i| PackedRgb888([i as u8, 1, 2]));
+        let mut line = [PackedRgb888::BLACK_PIXEL; 9];
+        PackedRgb888::copy_line(&mut line, &pixels);
+        assert_eq!(line, pixels);
+        let pixels: [Rgb565BigEndian; 21] = core::array::from_fn(|i| Rgb565BigEndian([i as u8, 9]));
+        let mut line = [Rgb565BigEndian::BLACK_PIXEL; 21];
+        Rgb565BigEndian::copy_line(&mut line, &pixels);
+        assert_eq!(line, pixels);
     }
 }

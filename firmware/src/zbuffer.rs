@@ -242,7 +242,7 @@ impl<'a, P: LinePixel> DepthColorBand<'a, P> {
     #[inline]
     pub(crate) fn begin_band(&mut self, rows: u16) {
         let n = self.width as usize * rows as usize;
-        self.depth[..n].fill(EMPTY_DEPTH);
+        crate::words::fill_words(&mut self.depth[..n], EMPTY_DEPTH);
         self.fill = self.next_fill;
         if let Some(background) = self.fill {
             P::fill(&mut self.color[..n], P::from_rgb888(background));
@@ -294,7 +294,7 @@ impl<'a, P: LinePixel> DepthColorBand<'a, P> {
         if self.fill == Some(background) {
             if let Some(same) = same_format_mut::<P, Q>(out) {
                 // The row as it is: a copy.
-                same.copy_from_slice(colors);
+                P::copy_line(same, colors);
             } else {
                 for (px, &c) in out.iter_mut().zip(colors) {
                     *px = Q::from_rgb888(c.to_rgb888());
