@@ -886,7 +886,7 @@ impl<M: CoverageMask, A: PoolAddress, S: BufferShape> BandBuffer<M>
     fn begin_band(&mut self, y0: u16, rows: u16) {
         self.rows = rows.min(self.config.band_height);
         let used = self.width_px() * self.rows as usize;
-        self.counts[..used].fill(0);
+        crate::words::fill_bytes(&mut self.counts[..used], 0);
         // The pool's peak becomes the band's; the frame's is kept here.
         self.stats.pool_peak = self.stats.pool_peak.max(self.pool.peak() as u32);
         self.pool.reset();

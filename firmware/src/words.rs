@@ -2,8 +2,8 @@
 //! to a step: the Cortex-M core then stores them with store-multiples (or
 //! pairs), where the compiler's `memcpy` and `memset` take one word at a
 //! time with a loop's overhead on each. Used where a frame moves whole
-//! rows: a z-buffer's rows copied into the sink's line, its depths cleared
-//! at the start of each band.
+//! rows: a z-buffer's rows copied into the sink's line, its depths and the
+//! A-buffer's fragment counts cleared at the start of each band.
 
 /// Copies `src` into `dst` (of the same length), eight 32-bit words at a
 /// time where the two lines lie alike against word boundaries, so that the
@@ -53,6 +53,18 @@ pub fn fill_words(dst: &mut [u32], value: u32) {
     }
 }
 
+/// Sets every byte of `dst` to `value`: the whole words among them by
+/// [`fill_words`].
+#[inline]
+pub fn fill_bytes(dst: &mut [u8], value: u8) {
+    // SAFETY: every bit pattern is a `u32`, and the words borrow `dst` for
+    // no longer than `dst` itself.
+    let (head, words, tail) = unsafe { dst.align_to_mut::<u32>() };
+    head.fill(value);
+    fill_words(words, u32::from_ne_bytes([value; 4]));
+    tail.fill(value);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -82,6 +94,21 @@ mod tests {
             fill_words(&mut words[3..3 + len], u32::MAX);
             assert!(words[3..3 + len].iter().all(|&w| w == u32::MAX));
             assert!(words[..3].iter().chain(&words[3 + len..]).all(|&w| w == 7));
+        }
+    }
+
+    #[test]
+    fn every_byte_is_filled_and_no_other() {
+        for len in 0..40 {
+            for from in 0..4 {
+                let mut bytes = [7u8; 48];
+                fill_bytes(&mut bytes[from..from + len], 0xC3);
+                assert!(bytes[from..from + len].iter().all(|&b| b == 0xC3));
+                assert!(bytes[..from]
+                    .iter()
+                    .chain(&bytes[from + len..])
+                    .all(|&b| b == 7));
+            }
         }
     }
 }
