@@ -377,9 +377,18 @@ fn project_normalized(&[x, y, z, w]: &[i64; 4]) -> (i32, i32, u32) {
     // components are at most 2^38, so the quotients times 2^24 fit.
     let w = Reciprocal::new(w.max(1) as u64);
     let lim = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
-    let div = |n: i64| w.mul_div_round(n, SUBPIXEL_BITS).clamp(-lim, lim) as i32;
+    // A vertex inside the view volume lands within the guard band and the
+    // depth range: one unsigned comparison says so, before a clamp's four.
+    let clamped = |q: i64, low: i64, high: i64| {
+        if (q.wrapping_sub(low) as u64) <= (high - low) as u64 {
+            q
+        } else {
+            q.clamp(low, high)
+        }
+    };
+    let div = |n: i64| clamped(w.mul_div_round(n, SUBPIXEL_BITS), -lim, lim) as i32;
     let depth = w.mul_div_round(z.max(0), DEPTH_BITS);
-    (div(x), div(y), depth.clamp(0, DEPTH_MAX as i64) as u32)
+    (div(x), div(y), clamped(depth, 0, DEPTH_MAX as i64) as u32)
 }
 
 #[cfg(test)]
