@@ -161,22 +161,10 @@ impl LinePixel for PackedRgb888 {
         Rgb888::new(r, g, b)
     }
 
-    /// Four pixels at a time as three 32-bit words (unaligned stores, which
-    /// the Cortex-M3 and M4 make as single instructions).
+    /// Whole words where the line allows it ([`crate::words::fill_repeating`]).
     #[inline(always)]
     fn fill(line: &mut [Self], value: Self) {
-        let [r, g, b] = value.0;
-        let four = [r, g, b, r, g, b, r, g, b, r, g, b];
-        let words =
-            [0, 4, 8].map(|k| u32::from_ne_bytes([four[k], four[k + 1], four[k + 2], four[k + 3]]));
-        let mut quads = line.chunks_exact_mut(4);
-        for quad in &mut quads {
-            let bytes = Self::line_bytes_mut(quad);
-            for (k, w) in words.iter().enumerate() {
-                bytes[4 * k..4 * k + 4].copy_from_slice(&w.to_ne_bytes());
-            }
-        }
-        quads.into_remainder().fill(value);
+        crate::words::fill_repeating(Self::line_bytes_mut(line), value.0);
     }
 
     /// Whole words where both lines allow it ([`crate::words::copy_bytes`]).

@@ -65,6 +65,42 @@ pub fn fill_bytes(dst: &mut [u8], value: u8) {
     tail.fill(value);
 }
 
+/// Fills `dst` with copies of the `N` bytes of `unit`, from its start (a
+/// partial copy at the end): the whole words among them six to a step, from
+/// a pattern of three words (twelve bytes, a whole number of units).
+#[inline]
+pub fn fill_repeating<const N: usize>(dst: &mut [u8], unit: [u8; N]) {
+    const { assert!(N > 0 && 12 % N == 0) };
+    // SAFETY: every bit pattern is a `u32`, and the words borrow `dst` for
+    // no longer than `dst` itself.
+    let (head, words, tail) = unsafe { dst.align_to_mut::<u32>() };
+    for (k, byte) in head.iter_mut().enumerate() {
+        *byte = unit[k % N];
+    }
+    // The three words that repeat from the first word boundary on.
+    let phase = head.len();
+    let pattern: [u32; 3] = core::array::from_fn(|w| {
+        u32::from_ne_bytes(core::array::from_fn(|b| unit[(phase + 4 * w + b) % N]))
+    });
+    let mut steps = words.chunks_exact_mut(6);
+    for step in &mut steps {
+        for (word, &value) in step.iter_mut().zip(pattern.iter().cycle()) {
+            *word = value;
+        }
+    }
+    for (word, &value) in steps
+        .into_remainder()
+        .iter_mut()
+        .zip(pattern.iter().cycle())
+    {
+        *word = value;
+    }
+    let after = phase + 4 * words.len();
+    for (k, byte) in tail.iter_mut().enumerate() {
+        *byte = unit[(after + k) % N];
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -110,5 +146,28 @@ mod tests {
                     .all(|&b| b == 7));
             }
         }
+    }
+
+    #[test]
+    fn units_repeat_from_the_start_at_every_alignment() {
+        fn check<const N: usize>(unit: [u8; N]) {
+            for len in 0..60 {
+                for from in 0..4 {
+                    let mut bytes = [0xEEu8; 72];
+                    fill_repeating(&mut bytes[from..from + len], unit);
+                    for (k, &b) in bytes[from..from + len].iter().enumerate() {
+                        assert_eq!(b, unit[k % N], "unit {unit:?} length {len} offset {from}");
+                    }
+                    assert!(bytes[..from]
+                        .iter()
+                        .chain(&bytes[from + len..])
+                        .all(|&b| b == 0xEE));
+                }
+            }
+        }
+        check([1, 2, 3]);
+        check([0xF8, 0x1F]);
+        check([5]);
+        check([1, 2, 3, 4]);
     }
 }
