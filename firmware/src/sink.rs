@@ -204,6 +204,12 @@ impl LinePixel for Rgb565BigEndian {
     fn copy_line(dst: &mut [Self], src: &[Self]) {
         crate::words::copy_bytes(Self::line_bytes_mut(dst), Self::line_bytes(src));
     }
+
+    /// Whole words where the line allows it ([`crate::words::fill_repeating`]).
+    #[inline(always)]
+    fn fill(line: &mut [Self], value: Self) {
+        crate::words::fill_repeating(Self::line_bytes_mut(line), value.0);
+    }
 }
 
 /// Receives the picture one finished line at a time, top to bottom within a
@@ -490,5 +496,24 @@ mod tests {
         let mut line = [Rgb565BigEndian::BLACK_PIXEL; 21];
         Rgb565BigEndian::copy_line(&mut line, &pixels);
         assert_eq!(line, pixels);
+    }
+
+    /// Byte pixels fill as the slice's own fill would.
+    #[test]
+    fn byte_pixel_lines_fill_whole() {
+        for len in 0..30 {
+            let value = PackedRgb888([9, 8, 7]);
+            let mut line = [PackedRgb888::BLACK_PIXEL; 30];
+            PackedRgb888::fill(&mut line[1..1 + len], value);
+            let mut expected = [PackedRgb888::BLACK_PIXEL; 30];
+            expected[1..1 + len].fill(value);
+            assert_eq!(line, expected);
+            let value = Rgb565BigEndian([0xF8, 0x1F]);
+            let mut line = [Rgb565BigEndian::BLACK_PIXEL; 30];
+            Rgb565BigEndian::fill(&mut line[1..1 + len], value);
+            let mut expected = [Rgb565BigEndian::BLACK_PIXEL; 30];
+            expected[1..1 + len].fill(value);
+            assert_eq!(line, expected);
+        }
     }
 }
