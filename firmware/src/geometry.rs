@@ -378,7 +378,8 @@ fn project_normalized(&[x, y, z, w]: &[i64; 4]) -> (i32, i32, u32) {
     let w = Reciprocal::new(w.max(1) as u64);
     let lim = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
     // A vertex inside the view volume lands within the guard band and the
-    // depth range: one unsigned comparison says so, before a clamp's four.
+    // depth range: one unsigned comparison says so, where the clamp takes
+    // two 64-bit comparisons and their selects.
     let clamped = |q: i64, low: i64, high: i64| {
         if (q.wrapping_sub(low) as u64) <= (high - low) as u64 {
             q
