@@ -6,6 +6,15 @@
 //! its depths and colors and the A-buffer's fragment counts set at the
 //! start of each band, the A-buffer's runs of background pixels.
 
+/// `bytes` as the bytes before its first word boundary, the whole words
+/// after it and the bytes after the last whole word.
+#[inline(always)]
+fn as_words_mut(bytes: &mut [u8]) -> (&mut [u8], &mut [u32], &mut [u8]) {
+    // SAFETY: every bit pattern is a `u32`, and the words borrow `bytes`
+    // for no longer than `bytes` itself.
+    unsafe { bytes.align_to_mut::<u32>() }
+}
+
 /// Copies `src` into `dst` (of the same length), eight 32-bit words at a
 /// time where the two lines lie alike against word boundaries, so that the
 /// Cortex-M core moves them with a load-multiple and a store-multiple
@@ -13,10 +22,9 @@
 /// byte by byte where they do not.
 #[inline(never)]
 pub fn copy_bytes(dst: &mut [u8], src: &[u8]) {
-    // SAFETY: every bit pattern is a `u32`, and the words borrow the lines
-    // for no longer than the lines themselves.
-    let (dst_head, dst_words, dst_tail) = unsafe { dst.align_to_mut::<u32>() };
+    // SAFETY: as in `as_words_mut`, for a shared borrow.
     let (src_head, src_words, src_tail) = unsafe { src.align_to::<u32>() };
+    let (dst_head, dst_words, dst_tail) = as_words_mut(dst);
     if dst_head.len() != src_head.len() || dst_words.len() != src_words.len() {
         dst.copy_from_slice(src);
         return;
@@ -55,12 +63,12 @@ pub fn fill_words(dst: &mut [u32], value: u32) {
 }
 
 /// Sets every byte of `dst` to `value`: the whole words among them by
-/// [`fill_words`].
+/// [`fill_words`], out of line. ([`fill_repeating`] with a one-byte unit
+/// gives the same bytes, but inlined with a constant unit its loop is what
+/// the compiler turns back into a call of `memset`.)
 #[inline]
 pub fn fill_bytes(dst: &mut [u8], value: u8) {
-    // SAFETY: every bit pattern is a `u32`, and the words borrow `dst` for
-    // no longer than `dst` itself.
-    let (head, words, tail) = unsafe { dst.align_to_mut::<u32>() };
+    let (head, words, tail) = as_words_mut(dst);
     head.fill(value);
     fill_words(words, u32::from_ne_bytes([value; 4]));
     tail.fill(value);
@@ -72,9 +80,7 @@ pub fn fill_bytes(dst: &mut [u8], value: u8) {
 #[inline]
 pub fn fill_repeating<const N: usize>(dst: &mut [u8], unit: [u8; N]) {
     const { assert!(N > 0 && 12 % N == 0) };
-    // SAFETY: every bit pattern is a `u32`, and the words borrow `dst` for
-    // no longer than `dst` itself.
-    let (head, words, tail) = unsafe { dst.align_to_mut::<u32>() };
+    let (head, words, tail) = as_words_mut(dst);
     for (k, byte) in head.iter_mut().enumerate() {
         *byte = unit[k % N];
     }
