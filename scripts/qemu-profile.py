@@ -83,6 +83,9 @@ def main():
     parser.add_argument("--annotate", default=None,
                         help="print the disassembly of the function symbols matching this "
                              "text with each instruction's count")
+    parser.add_argument("--mix", action="store_true",
+                        help="also count by kind of instruction (stack loads and stores, other "
+                             "memory, multiplies, branches, ...), in all and per function symbol")
     parser.add_argument("--lines", default=None,
                         help="also count by source line within functions matching this text")
     args = parser.parse_args()
@@ -226,6 +229,8 @@ def main():
                 except ValueError:
                     continue
                 print(f"{per_pc.get(pc, 0):>10,} {line}")
+    if args.mix:
+        print_mix(args, per_pc, table, addresses, total)
     if args.lines:
         per_line = collections.Counter()
         for pc, n in per_pc.items():
@@ -238,6 +243,64 @@ def main():
         print("hottest instructions:")
         for n, pc in sorted(hot, reverse=True)[: args.top]:
             print(f"{n:>12,}  0x{pc:08x}  {lines.get(pc, '')}")
+
+
+# Kinds of Thumb-2 instructions, by mnemonic prefix (after the stack's own
+# loads and stores, which are told by their `sp` operand).
+KINDS = [
+    ("other loads", ("ldr", "ldm")),
+    ("other stores", ("str", "stm")),
+    ("multiplies, divides", ("mul", "mla", "mls", "smul", "smla", "umul", "umla", "umaal",
+                             "sdiv", "udiv", "smmul", "smmla", "smuad", "smlad")),
+    ("compares", ("cmp", "cmn", "tst", "teq")),
+    ("IT blocks", ("it",)),
+    ("branches", ("b", "cbz", "cbnz", "tbb", "tbh")),
+    ("moves", ("mov", "mvn")),
+]
+
+
+def kind_of(text):
+    """The kind of one disassembled instruction (`mnemonic operands`)."""
+    mnemonic = text.split()[0] if text.split() else ""
+    if re.search(r"\[sp[],]", text) or (mnemonic in ("push", "pop", "push.w", "pop.w")):
+        return "stack loads, stores"
+    for kind, prefixes in KINDS:
+        # `bic`, `bfi`, `bfc` are bit operations, not branches.
+        if mnemonic.startswith(prefixes) and not mnemonic.startswith(("bic", "bfi", "bfc")):
+            return kind
+    return "other arithmetic, logic"
+
+
+def print_mix(args, per_pc, table, addresses, total):
+    """The executed instructions by kind: in all, then per function symbol
+    (inlined code in its caller) for the `--top` largest."""
+    objdump = shutil.which("llvm-objdump")
+    out = subprocess.run([objdump, "-d", "--no-show-raw-insn", os.path.abspath(args.elf)],
+                         capture_output=True, text=True, check=True).stdout
+    text_of = {}
+    for line in out.splitlines():
+        head, _, rest = line.partition(":")
+        try:
+            pc = int(head.strip(), 16)
+        except ValueError:
+            continue
+        text_of[pc] = rest.strip()
+    in_all = collections.Counter()
+    per_symbol = collections.defaultdict(collections.Counter)
+    for pc, n in per_pc.items():
+        kind = kind_of(text_of.get(pc, ""))
+        in_all[kind] += n
+        i = bisect.bisect_right(addresses, pc) - 1
+        per_symbol[short(table[i][1]) if i >= 0 else hex(pc)][kind] += n
+    print("by kind of instruction:")
+    for kind, n in in_all.most_common():
+        print(f"{n:>12,}  {100.0 * n / total:5.1f} %  {kind}")
+    largest = sorted(per_symbol.items(), key=lambda kv: -sum(kv[1].values()))[: args.top]
+    print("stack loads and stores per function symbol (inlined code counted in its caller):")
+    for name, kinds in largest:
+        n = sum(kinds.values())
+        stack = kinds["stack loads, stores"]
+        print(f"{n:>12,}  {100.0 * stack / n:5.1f} % of them stack loads, stores  {name}")
 
 
 if __name__ == "__main__":

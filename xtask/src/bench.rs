@@ -126,7 +126,8 @@ pub fn run_bench(args: &BenchArgs) -> Result<(), String> {
 /// the teapot with `shared`, `zbuffer` and `split-bands` in the default M4
 /// configuration: builds the QEMU firmware for one frame and runs
 /// `scripts/qemu-profile.py` on it (by innermost inlined function, by source
-/// file, and by function symbol with its inlined callees). Writes
+/// file, by function symbol with its inlined callees, and by kind of
+/// instruction, with the share of stack loads and stores per symbol). Writes
 /// `docs/m4-profile/teapot-<method>.txt`. Needs qemu-system-arm, python3 and
 /// llvm-symbolizer (Debian's llvm package); about a minute per method.
 pub fn profile() -> Result<(), String> {
@@ -145,7 +146,7 @@ pub fn profile() -> Result<(), String> {
             program("python3")
                 .arg("scripts/qemu-profile.py")
                 .arg(&elf)
-                .args(["--top", "40", "--files", "--outer"]),
+                .args(["--top", "40", "--files", "--outer", "--mix"]),
         )?;
         let path = out_dir.join(format!("teapot-{method}.txt"));
         std::fs::write(&path, listing).map_err(|e| format!("{}: {e}", path.display()))?;
