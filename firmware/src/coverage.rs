@@ -135,6 +135,9 @@ pub fn edge_coverage_by_sample<M: CoverageMask>(e: i32, a: i32, b: i32) -> M {
 /// products, 36 bytes, the pixel loops reloaded them, 0.5 M more
 /// instructions a teapot frame).
 mod sorted_4x4 {
+    #[cfg(any(arm_dual_multiply, test))]
+    use crate::fixed_point::dual_mul_add;
+
     /// Sample offsets of the 4x4 grid in 1/16 pixel, per column (and per row).
     const OFFSETS: [i32; 4] = [-6, -2, 2, 6];
 
@@ -279,14 +282,15 @@ mod sorted_4x4 {
 
         /// [`Edge4x4::mask`] for steps within `±2^15`, each threshold from
         /// the steps and the sample's offsets packed in half-words: one load
-        /// and one dual multiply-add ([`dual_multiply_add`]), where the plain
-        /// threshold loads two offsets and multiplies twice. The same
-        /// thresholds, so the same mask.
+        /// and one dual multiply-add ([`dual_mul_add`], `smuad`), where the
+        /// plain threshold loads two offsets and multiplies twice. The same
+        /// thresholds, so the same mask (each below `2 * 6 * 2^15` in
+        /// magnitude: the sum fits).
         #[cfg(any(arm_dual_multiply, test))]
         #[inline]
         pub fn mask_packed(&self, e: i32) -> u16 {
             let offsets = &PACKED_OFFSETS[self.sector as usize & 31];
-            self.search(e, |k| dual_multiply_add(self.steps, offsets[k & 15]))
+            self.search(e, |k| dual_mul_add(self.steps, offsets[k & 15]))
         }
 
         /// The samples whose thresholds `threshold(k)` (rising with `k` in
@@ -315,7 +319,7 @@ mod sorted_4x4 {
     }
 
     /// `NEGATED_OFFSETS` with each sample's x and y offsets packed in one
-    /// word (x in the low half-word), as [`dual_multiply_add`] takes them.
+    /// word (x in the low half-word), as [`dual_mul_add`] takes them.
     #[cfg(any(arm_dual_multiply, test))]
     const PACKED_OFFSETS: [[u32; 16]; 32] = {
         let mut table = [[0u32; 16]; 32];
@@ -331,39 +335,6 @@ mod sorted_4x4 {
         }
         table
     };
-
-    /// The sum of the products of the signed low half-words of `x` and `y`
-    /// and of their high half-words: the DSP extension's `smuad`, one
-    /// instruction. (Written in Rust with half-word operands, the compiler
-    /// makes it two, `smulbb` and `smlatb`, and the teapot's frame took
-    /// 0.37 M instructions more.)
-    #[cfg(arm_dual_multiply)]
-    #[inline(always)]
-    fn dual_multiply_add(x: u32, y: u32) -> i32 {
-        let sum: i32;
-        // SAFETY: `smuad` reads two registers and writes a third, nothing
-        // else: no memory, no stack. It sets the Q flag only when the sum
-        // overflows, which a threshold cannot (two products of a step below
-        // 2^15 and an offset of at most 6).
-        unsafe {
-            core::arch::asm!(
-                "smuad {sum}, {x}, {y}",
-                sum = lateout(reg) sum,
-                x = in(reg) x,
-                y = in(reg) y,
-                options(pure, nomem, nostack, preserves_flags),
-            );
-        }
-        sum
-    }
-
-    /// [`dual_multiply_add`] elsewhere (the tests of the packed thresholds).
-    #[cfg(all(test, not(arm_dual_multiply)))]
-    fn dual_multiply_add(x: u32, y: u32) -> i32 {
-        let low = |v: u32| v as i16 as i32;
-        let high = |v: u32| (v >> 16) as i16 as i32;
-        low(x) * low(y) + high(x) * high(y)
-    }
 }
 
 pub use sorted_4x4::Edge4x4;
