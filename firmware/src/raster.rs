@@ -174,7 +174,8 @@ fn edges_fit_i32_bound(setup: &TriangleSetup, y_first: u16, y_last: u16) -> bool
         let bound = e.origin.abs()
             + ((e.a.unsigned_abs() as i64) << 4) * columns
             + ((e.b.unsigned_abs() as i64) << 4) * rows;
-        let short = e.a.abs() < SHORT_STEP_LIMIT && e.b.abs() < SHORT_STEP_LIMIT;
+        let limit = SHORT_STEP_LIMIT as u32;
+        let short = e.a.unsigned_abs() < limit && e.b.unsigned_abs() < limit;
         bound < 1 << 30 && short
     })
 }
