@@ -394,6 +394,40 @@ pub fn wide_mul_add(acc: i64, x: i32, y: i32) -> i64 {
     }
 }
 
+/// `acc + n d` for a count `n` (a depth plane's value `n` pixels on from
+/// `acc`), wrapping; the caller knows the sum fits. On Armv7-M (the build
+/// script's `arm_long_multiply`) one `umlal` and one `mla` written out: the
+/// unsigned product of `n` and `d`'s low word added into `acc`, then `n`
+/// times `d`'s high word into the high word. Left to the compiler (a
+/// 64-bit product, then a 64-bit sum), the pixel walks of the teapot's
+/// antialiased frame took 0.14 M instructions more; the z-buffer's runs,
+/// whose loops differ, do not gain from it and keep the plain sum.
+#[inline(always)]
+pub fn count_mul_add(acc: i64, n: u32, d: i64) -> i64 {
+    #[cfg(arm_long_multiply)]
+    {
+        let (mut low, mut high) = (acc as u32, (acc >> 32) as u32);
+        // SAFETY: register-only arithmetic, no memory, stack or flags.
+        unsafe {
+            core::arch::asm!(
+                "umlal {low}, {high}, {n}, {dl}",
+                "mla {high}, {n}, {dh}, {high}",
+                low = inout(reg) low,
+                high = inout(reg) high,
+                n = in(reg) n,
+                dl = in(reg) d as u32,
+                dh = in(reg) (d >> 32) as u32,
+                options(pure, nomem, nostack, preserves_flags)
+            );
+        }
+        ((high as u64) << 32 | low as u64) as i64
+    }
+    #[cfg(not(arm_long_multiply))]
+    {
+        acc.wrapping_add((n as i64).wrapping_mul(d))
+    }
+}
+
 /// The products of the signed low half-words of `x` and `y` and of their
 /// signed high half-words, added: one `smuad` on Armv7E-M (the build
 /// script's `arm_dual_multiply`: Cortex-M4 and M7), plain multiplication

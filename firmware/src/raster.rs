@@ -23,6 +23,7 @@
 
 use crate::band_buffer::{BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, SHORT_STEP_LIMIT};
+use crate::fixed_point::count_mul_add;
 use crate::fragment::{fragment_depth, Fragment};
 use crate::setup::{Edge, Plane, ScreenBox, TriangleSetup};
 use crate::shading::linear::LinearWalk;
@@ -378,7 +379,7 @@ where
     let mut y = rows.first;
     loop {
         let row = y - rows.band_y0;
-        let mut z = z_row + span.start as u32 as i64 * dz;
+        let mut z = count_mul_add(z_row, span.start as u32, dz);
         for k in span.start..span.end {
             asked += 1;
             let bound = 16 * fragment_depth(z) as i64 - reach;
@@ -892,8 +893,9 @@ where
             // The depth at column `k`: with one sample per pixel, stepped
             // along with the colors; with a grid, whose masks leave the
             // loops few registers, the row's value plus `k` steps, one
-            // multiply-accumulate where a pixel is visited (the same
-            // integers; measured in `docs/m4-benchmark-history.md`).
+            // multiply-accumulate where a pixel is visited
+            // (`count_mul_add`; the same integers; measured in
+            // `docs/m4-benchmark-history.md`).
             // Columns are counted from the box's first, never negative: as
             // `u32`, one multiplication fewer than a signed column.
             let stepped = M::SAMPLES == 1;
@@ -902,7 +904,7 @@ where
                 if stepped {
                     z
                 } else {
-                    z_row + k as u32 as i64 * dz
+                    count_mul_add(z_row, k as u32, dz)
                 }
             };
             // Where to go on from column `k` (counted from the box's first).
