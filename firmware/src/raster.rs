@@ -24,7 +24,7 @@
 use crate::band_buffer::{BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, SHORT_STEP_LIMIT};
 use crate::fixed_point::count_mul_add;
-use crate::fragment::{fragment_depth, Fragment};
+use crate::fragment::{fragment_depth, fragment_depth_saturated, Fragment};
 use crate::setup::{Edge, Plane, ScreenBox, TriangleSetup};
 use crate::shading::linear::LinearWalk;
 use crate::shading::phong::PhongWalk;
@@ -493,7 +493,11 @@ fn fragment_at<M: CoverageMask>(
 ) -> Fragment<M> {
     Fragment {
         mask,
-        z: fragment_depth(z),
+        z: if M::SAMPLES == 1 {
+            fragment_depth(z)
+        } else {
+            fragment_depth_saturated(z)
+        },
         dzdx: setup.dzdx,
         dzdy: setup.dzdy,
         color,
