@@ -382,7 +382,7 @@ where
         let mut z = count_mul_add(z_row, span.start as u32, dz);
         for k in span.start..span.end {
             asked += 1;
-            let bound = 16 * fragment_depth(z) as i64 - reach;
+            let bound = 16 * fragment_depth_saturated(z) as i64 - reach;
             if !buffer.hides(setup.x0 + k as u16, row, bound) {
                 buffer.count_triangle_test(asked, false);
                 return Some(WalkStart {
