@@ -120,20 +120,28 @@ impl<P: LinePixel> BandBuffer<Mask1x1> for ZBuffer<'_, P> {
         const UP: u32 = 32 - PLANE_EXTRA_BITS;
         let mut rounded = ((run.depth + PLANE_HALF_UNIT) << UP) as u64;
         let step = (run.depth_step << UP) as u64;
-        let (mut stored, mut replaced) = (0u32, 0u32);
+        // The pixels stored in the low half-word and those of them that
+        // replaced a fragment in the high one: a run is at most `u16::MAX`
+        // pixels long, and one counter leaves the loop a register.
+        const REPLACED: u32 = 1 << 16;
+        let mut counts = 0u32;
         let depths = &mut self.band.depth[start..end];
         let colors = &mut self.band.color[start..end];
         for (stored_depth, stored_color) in depths.iter_mut().zip(colors) {
             let z = (rounded >> 32) as u32;
             if z <= *stored_depth {
-                replaced += (*stored_depth != EMPTY_DEPTH) as u32;
-                stored += 1;
+                counts += 1 + if *stored_depth != EMPTY_DEPTH {
+                    REPLACED
+                } else {
+                    0
+                };
                 *stored_depth = z;
                 *stored_color = P::from_rgb888(walk.color(color));
             }
             walk.step(color);
             rounded = rounded.wrapping_add(step);
         }
+        let (stored, replaced) = (counts & (REPLACED - 1), counts >> 16);
         self.stats.fragments_stored += stored;
         self.stats.fragments_removed_hidden += replaced;
         self.stats.fragments_hidden_on_arrival += run.len as u32 - stored;

@@ -1,7 +1,7 @@
 //! Gouraud shading: the lit vertex colors interpolated linearly over the
 //! triangle, one addition per channel and pixel ([`LinearWalk`]).
 
-use super::{ColorWalk, PlaneValue};
+use super::{rounding_bias, ColorWalk, PlaneValue};
 use crate::fixed_point::{Reciprocal, SUBPIXEL_BITS};
 use crate::lighting::ColorQ8;
 use crate::setup::Plane;
@@ -20,11 +20,12 @@ pub struct LinearWalk<V: PlaneValue = i64> {
 
 impl<V: PlaneValue> LinearWalk<V> {
     /// Starts at row `j` of the bounding box of planes `p` (16 fraction bits);
-    /// for `V = i32` the planes must [`LinearWalk::fits`].
+    /// for `V = i32` the planes must [`LinearWalk::fits`]. The values carry
+    /// the [`rounding_bias`] from here on.
     #[inline]
     pub fn start(p: &[Plane; 3], j: i64) -> Self {
         Self {
-            row_start: p.map(|p| V::from_i64(p.origin + j * p.dy)),
+            row_start: p.map(|p| V::from_i64(p.origin + j * p.dy + rounding_bias(16))),
             dx: p.map(|p| V::from_i64(p.dx)),
             dy: p.map(|p| V::from_i64(p.dy)),
         }
@@ -34,7 +35,7 @@ impl<V: PlaneValue> LinearWalk<V> {
 impl LinearWalk<i32> {
     /// Whether every value of planes `p` over the bounding box of `setup`
     /// (and one step beyond it) is below 2^30 in magnitude, so the walk can
-    /// run in `i32`.
+    /// run in `i32` (with the [`rounding_bias`] added, below 2^31).
     pub fn fits(p: &[Plane; 3], setup: &crate::setup::TriangleSetup) -> bool {
         let columns = (setup.x1 - setup.x0) as i64 + 1;
         let rows = (setup.y1 - setup.y0) as i64 + 1;

@@ -209,11 +209,20 @@ pub trait ColorWalk {
     }
 }
 
-/// An 8-bit channel from a value with `bits` fraction bits: rounded, then
-/// clamped to `[0, 255]` with one comparison in the common case.
+/// Half a unit of a value with `bits` fraction bits: the walks add it to
+/// their values once, when they start, so that the channel of every pixel
+/// is rounded by a shift ([`channel`], [`channel_i32`]) instead of an
+/// addition per pixel and channel.
+pub(crate) const fn rounding_bias(bits: u32) -> i64 {
+    1 << (bits - 1)
+}
+
+/// The 8-bit channel of a value with `bits` fraction bits that carries the
+/// [`rounding_bias`]: shifted (so rounded), then clamped to `[0, 255]` with
+/// one comparison in the common case.
 #[inline(always)]
 fn channel(v: i64, bits: u32) -> u8 {
-    let c = (v + (1 << (bits - 1))) >> bits;
+    let c = v >> bits;
     if (c as u64) <= 255 {
         c as u8
     } else if c < 0 {
@@ -251,8 +260,9 @@ pub trait PlaneValue:
     fn from_i64(v: i64) -> Self;
     /// `n` as a value.
     fn from_count(n: u16) -> Self;
-    /// The 8-bit channel of a value with 16 fraction bits, rounded and clamped
-    /// to `[0, 255]` with one comparison in the common case.
+    /// The 8-bit channel of a value with 16 fraction bits that carries the
+    /// [`rounding_bias`] (so rounded), clamped to `[0, 255]` with one
+    /// comparison in the common case.
     fn channel16(self) -> u8;
 }
 
@@ -286,10 +296,10 @@ impl PlaneValue for i32 {
     }
 }
 
-/// The 8-bit channel of an `i32` value with `bits` fraction bits, rounded
-/// and clamped: a shift and a clamp, one saturating instruction on Cortex-M.
-/// The value must be below `2^31 - 2^(bits - 1)`.
+/// The 8-bit channel of an `i32` value with `bits` fraction bits that
+/// carries the [`rounding_bias`]: a shift and a clamp, one saturating
+/// instruction on Cortex-M.
 #[inline(always)]
 fn channel_i32(v: i32, bits: u32) -> u8 {
-    ((v + (1 << (bits - 1))) >> bits).clamp(0, 255) as u8
+    (v >> bits).clamp(0, 255) as u8
 }

@@ -4,19 +4,19 @@ use super::{
     is_narrow_box, QuadraticPolynomial, NARROW_QUADRATIC_BOX, NARROW_QUADRATIC_DROPPED_BITS,
     NARROW_QUADRATIC_FRACTION_BITS, QUADRATIC_FRACTION_BITS,
 };
-use crate::shading::{channel_i32, ColorWalk, PlaneValue};
+use crate::shading::{channel_i32, rounding_bias, ColorWalk, PlaneValue};
 use embedded_graphics_core::pixelcolor::Rgb888;
 
-/// A quadratic channel in [`QUADRATIC_FRACTION_BITS`] to 8 bits, rounded and clamped.
+/// A quadratic channel in [`QUADRATIC_FRACTION_BITS`], with its
+/// [`rounding_bias`], to 8 bits, rounded and clamped.
 #[inline]
 fn channel_quadratic(v: i64) -> u8 {
     const _: () = assert!(QUADRATIC_FRACTION_BITS == 28);
-    // The same as `channel(v, 28)`, decided on the high word: the rounded
-    // value is in `[0, 255]` exactly when that word is below 16.
-    let rounded = v + (1 << 27);
-    let high = (rounded >> 32) as i32;
+    // The same as `channel(v, 28)`, decided on the high word: the value is
+    // in `[0, 255]` exactly when that word is below 16.
+    let high = (v >> 32) as i32;
     if (high as u32) < 16 {
-        (rounded >> 28) as u8
+        (v >> 28) as u8
     } else if high < 0 {
         0
     } else {
@@ -30,7 +30,11 @@ pub trait QuadraticValue: PlaneValue {
     /// Low bits of the fitted coefficients ([`QUADRATIC_FRACTION_BITS`])
     /// that this type leaves out (all zero where it is used).
     const DROPPED_BITS: u32;
-    /// The 8-bit channel of a value, rounded and clamped.
+    /// The [`rounding_bias`] of this type's values, which the walk adds to
+    /// them when it starts.
+    const ROUNDING_BIAS: i64 = rounding_bias(QUADRATIC_FRACTION_BITS - Self::DROPPED_BITS);
+    /// The 8-bit channel of a value that carries [`Self::ROUNDING_BIAS`],
+    /// rounded and clamped.
     fn channel(self) -> u8;
     /// `self + other`, wrapping.
     fn plus(self, other: Self) -> Self;
@@ -89,7 +93,7 @@ pub struct QuadraticWalk<V: QuadraticValue = i64> {
 /// The state of a [`QuadraticWalk`] within a row: value and `x` difference per channel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct QuadraticRow<V = i64> {
-    /// `Q(i, j)` per channel.
+    /// `Q(i, j)` per channel, plus [`QuadraticValue::ROUNDING_BIAS`].
     pub value: [V; 3],
     /// `Q(i + 1, j) - Q(i, j)` per channel.
     pub first_x: [V; 3],
@@ -100,7 +104,7 @@ pub struct QuadraticRow<V = i64> {
 /// [`NARROW_QUADRATIC_BOX`] on each side, every coefficient is a multiple
 /// of `2^8` (as the fit leaves them on such a box), and every value on the
 /// box, in [`NARROW_QUADRATIC_FRACTION_BITS`], is below `2^31 - 2^20` in
-/// magnitude (bounded by the sum over the coefficients of `|k| m`, `m` the
+/// magnitude (so below `2^31` with the walk's rounding bias, `2^19`) (bounded by the sum over the coefficients of `|k| m`, `m` the
 /// largest value of `k`'s monomial on the box). The walk's arithmetic wraps:
 /// it is exact modulo 2^32, so each value it reaches at a pixel is the
 /// polynomial's, whatever its differences and products do on the way.
@@ -168,6 +172,7 @@ impl<V: QuadraticValue> QuadraticWalk<V> {
         for (c, p) in p.iter().enumerate() {
             let [a, b, cross, d, e, f] =
                 p.coefficients().map(|k| V::from_i64(k >> V::DROPPED_BITS));
+            let f = f.plus(V::from_i64(V::ROUNDING_BIAS));
             walk.value[c] = b.times(j).plus(e).times(j).plus(f);
             walk.first_x[c] = a.plus(cross.times(j)).plus(d);
             walk.first_y[c] = b.times(two_j_plus_one).plus(e);
