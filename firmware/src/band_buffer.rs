@@ -2,7 +2,7 @@
 
 use crate::coverage::CoverageMask;
 use crate::draw_order::TriangleOrder;
-use crate::fragment::{fragment_depth, Fragment};
+use crate::fragment::{rounded_depth, Fragment};
 use crate::raster::{band_test_of_box, rasterize_rows, BandTest, RowRange};
 use crate::setup::{DepthSetup, Rejection, SetupVertex, TriangleSetup};
 use crate::shading::{ColorPlanes, ColorWalk};
@@ -160,7 +160,8 @@ pub struct FullRun<M: CoverageMask> {
     pub len: u16,
     /// The triangle's depth plane at the first pixel's center, with
     /// [`crate::fragment::PLANE_EXTRA_BITS`] extra fraction bits
-    /// ([`crate::setup::Plane`]).
+    /// ([`crate::setup::Plane`]) and [`crate::fragment::PLANE_HALF_UNIT`]
+    /// added: the pixel's depth is [`crate::fragment::rounded_depth`].
     pub depth: i64,
     /// The plane's step per pixel, in the same units.
     pub depth_step: i64,
@@ -184,7 +185,7 @@ pub fn insert_each<M: CoverageMask, B: BandBuffer<M>, W: ColorWalk>(
     let mut depth = run.depth;
     for k in 0..run.len {
         let fragment = Fragment {
-            z: fragment_depth(depth),
+            z: rounded_depth(depth),
             color: walk.color(color),
             ..run.template
         };

@@ -54,7 +54,9 @@ impl<M: CoverageMask> Fragment<M> {
 pub const PLANE_EXTRA_BITS: u32 = 16;
 
 /// Half a stored depth unit in depth-plane units: what rounds a plane value
-/// to the nearest depth before the shift by [`PLANE_EXTRA_BITS`].
+/// to the nearest depth before the shift by [`PLANE_EXTRA_BITS`]. The pixel
+/// walks add it once, to the depth of each row's first pixel, and round
+/// every pixel's value with [`rounded_depth`] (a shift, no addition).
 pub const PLANE_HALF_UNIT: i64 = 1 << (PLANE_EXTRA_BITS - 1);
 
 /// Whether the depth plane's value `plane` rounds to a depth in `0 ..=
@@ -62,7 +64,13 @@ pub const PLANE_HALF_UNIT: i64 = 1 << (PLANE_EXTRA_BITS - 1);
 /// by [`PLANE_EXTRA_BITS`] and clamps nothing.
 #[inline(always)]
 pub fn depth_in_range(plane: i64) -> bool {
-    ((plane + PLANE_HALF_UNIT) as u64) < (DEPTH_MAX as u64 + 1) << PLANE_EXTRA_BITS
+    rounds_in_range(plane + PLANE_HALF_UNIT)
+}
+
+/// [`depth_in_range`] of a plane value that carries [`PLANE_HALF_UNIT`].
+#[inline(always)]
+pub fn rounds_in_range(biased: i64) -> bool {
+    (biased as u64) < (DEPTH_MAX as u64 + 1) << PLANE_EXTRA_BITS
 }
 
 /// `v` saturated to the 24-bit signed range, `-2^23 ..= 2^23 - 1`: one
@@ -79,13 +87,19 @@ fn saturate_24(v: i32) -> i32 {
 /// DEPTH_MAX`.
 #[inline(always)]
 pub fn fragment_depth(plane: i64) -> u32 {
+    rounded_depth(plane + PLANE_HALF_UNIT)
+}
+
+/// [`fragment_depth`] of a plane value that carries [`PLANE_HALF_UNIT`]:
+/// shifted down (so rounded) and clamped.
+#[inline(always)]
+pub fn rounded_depth(biased: i64) -> u32 {
     const _: () = assert!(DEPTH_MAX == (1 << 24) - 1 && PLANE_EXTRA_BITS == 16);
-    let rounded = plane + PLANE_HALF_UNIT;
     // The depth is in range exactly when the high word is below 2^8: one
     // comparison in the common case.
-    let high = (rounded >> 32) as i32;
+    let high = (biased >> 32) as i32;
     if (high as u32) < 1 << 8 {
-        (rounded >> PLANE_EXTRA_BITS) as u32
+        (biased >> PLANE_EXTRA_BITS) as u32
     } else if high < 0 {
         0
     } else {
@@ -93,27 +107,25 @@ pub fn fragment_depth(plane: i64) -> u32 {
     }
 }
 
-/// [`fragment_depth`], on Armv7-M (the build script's `arm_long_multiply`)
-/// as six instructions written out: the rounding as a 64-bit add, the high
-/// word saturated to 16 bits (`ssat`), the depth as the low 16 bits of that
-/// above the rounded value's bits 16 to 31, saturated to 24 unsigned bits
-/// (`usat`). The same value: in range the two saturations change nothing;
-/// below it the word is negative, above it at least 2^24. The compiler's
-/// code for [`fragment_depth`] (a test of the high word and its selects)
-/// costs the antialiased pixel walks about 0.1 M instructions more a
-/// teapot frame; the z-buffer's walks, whose loops differ, keep it.
+/// [`rounded_depth`], on Armv7-M (the build script's `arm_long_multiply`)
+/// as four instructions written out: the high word saturated to 16 bits
+/// (`ssat`), the depth as the low 16 bits of that above the value's bits
+/// 16 to 31, saturated to 24 unsigned bits (`usat`). The same value: in
+/// range the two saturations change nothing; below it the word is
+/// negative, above it at least 2^24. The compiler's code for
+/// [`rounded_depth`] (a test of the high word and its selects) costs the
+/// antialiased pixel walks about 0.1 M instructions more a teapot frame;
+/// the z-buffer's walks, whose loops differ, keep it.
 #[inline(always)]
-pub fn fragment_depth_saturated(plane: i64) -> u32 {
+pub fn rounded_depth_saturated(biased: i64) -> u32 {
     #[cfg(arm_long_multiply)]
     {
         const _: () = assert!(DEPTH_MAX == (1 << 24) - 1 && PLANE_EXTRA_BITS == 16);
-        let (mut low, high) = (plane as u32, (plane >> 32) as i32);
+        let (mut low, high) = (biased as u32, (biased >> 32) as i32);
         // SAFETY: register-only arithmetic, no memory or stack (the flags
         // are changed: no `preserves_flags`).
         unsafe {
             core::arch::asm!(
-                "adds {low}, {low}, #32768",
-                "adc {high}, {high}, #0",
                 "ssat {high}, #16, {high}",
                 "lsrs {low}, {low}, #16",
                 "orr {low}, {low}, {high}, lsl #16",
@@ -127,7 +139,7 @@ pub fn fragment_depth_saturated(plane: i64) -> u32 {
     }
     #[cfg(not(arm_long_multiply))]
     {
-        fragment_depth(plane)
+        rounded_depth(biased)
     }
 }
 

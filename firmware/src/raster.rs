@@ -24,7 +24,9 @@
 use crate::band_buffer::{BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, SHORT_STEP_LIMIT};
 use crate::fixed_point::count_mul_add;
-use crate::fragment::{fragment_depth, fragment_depth_saturated, Fragment};
+use crate::fragment::{
+    fragment_depth, rounded_depth, rounded_depth_saturated, Fragment, PLANE_HALF_UNIT,
+};
 use crate::setup::{Edge, Plane, ScreenBox, TriangleSetup};
 use crate::shading::linear::LinearWalk;
 use crate::shading::phong::PhongWalk;
@@ -382,7 +384,7 @@ where
         let mut z = count_mul_add(z_row, span.start as u32, dz);
         for k in span.start..span.end {
             asked += 1;
-            let bound = 16 * fragment_depth_saturated(z) as i64 - reach;
+            let bound = 16 * rounded_depth_saturated(z) as i64 - reach;
             if !buffer.hides(setup.x0 + k as u16, row, bound) {
                 buffer.count_triangle_test(asked, false);
                 return Some(WalkStart {
@@ -410,7 +412,8 @@ where
 /// into the walk's loops.
 trait PixelVisitor<M: CoverageMask> {
     /// Handles the fragment at image pixel `(x, y)` with coverage `mask`,
-    /// depth plane `z` and `color`; `true` stops the walk.
+    /// depth plane `z` (with [`PLANE_HALF_UNIT`], as the walks carry it)
+    /// and `color`; `true` stops the walk.
     fn visit(&mut self, x: u16, y: u16, mask: M, z: i64, color: Rgb888) -> bool;
 }
 
@@ -483,7 +486,8 @@ impl RowRange {
     }
 }
 
-/// A fragment of `setup` without its color yet.
+/// The fragment of `setup` with coverage `mask`, depth plane `z` (with
+/// [`PLANE_HALF_UNIT`], as the walks carry it) and `color`.
 #[inline(always)]
 fn fragment_at<M: CoverageMask>(
     setup: &TriangleSetup,
@@ -494,9 +498,9 @@ fn fragment_at<M: CoverageMask>(
     Fragment {
         mask,
         z: if M::SAMPLES == 1 {
-            fragment_depth(z)
+            rounded_depth(z)
         } else {
-            fragment_depth_saturated(z)
+            rounded_depth_saturated(z)
         },
         dzdx: setup.dzdx,
         dzdy: setup.dzdy,
@@ -724,15 +728,16 @@ impl<M: CoverageMask, E: EdgeValue> EdgeWalk<M, E> {
         WalkStart {
             y,
             e_row,
-            z_row: setup.depth.origin + j * setup.depth.dy,
+            z_row: setup.depth.origin + j * setup.depth.dy + PLANE_HALF_UNIT,
             span: self.span(&e_row),
         }
     }
 }
 
 /// Where a pixel walk starts: image row `y`, the edge values and depth at
-/// the bounding box's first column there, and the row's pixels from the
-/// start on.
+/// the bounding box's first column there (the depth plane's value with
+/// [`PLANE_HALF_UNIT`] added, so that each pixel's depth rounds by a shift),
+/// and the row's pixels from the start on.
 #[derive(Clone, Copy)]
 struct WalkStart<E> {
     y: u16,

@@ -2,7 +2,7 @@
 
 use crate::band_buffer::{insert_each, BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, Mask1x1};
-use crate::fragment::{depth_in_range, Fragment, PLANE_EXTRA_BITS, PLANE_HALF_UNIT};
+use crate::fragment::{rounds_in_range, Fragment, PLANE_EXTRA_BITS};
 use crate::shading::ColorWalk;
 use crate::sink::LinePixel;
 use crate::stats::BufferStats;
@@ -110,7 +110,7 @@ impl<P: LinePixel> BandBuffer<Mask1x1> for ZBuffer<'_, P> {
         // The plane is linear: when both ends of the run round into range,
         // every pixel between does.
         let last = run.depth + (run.len as i64 - 1) * run.depth_step;
-        if end > self.band.depth.len() || !depth_in_range(run.depth) || !depth_in_range(last) {
+        if end > self.band.depth.len() || !rounds_in_range(run.depth) || !rounds_in_range(last) {
             return insert_each(self, x, row, run, walk, color);
         }
         // The rounded plane shifted up so that a pixel's depth is the high
@@ -118,7 +118,7 @@ impl<P: LinePixel> BandBuffer<Mask1x1> for ZBuffer<'_, P> {
         // ends are in range and the plane is linear, so every value of the
         // run lies in `0 .. 2^56`: the wrapping sum holds it exactly.
         const UP: u32 = 32 - PLANE_EXTRA_BITS;
-        let mut rounded = ((run.depth + PLANE_HALF_UNIT) << UP) as u64;
+        let mut rounded = (run.depth << UP) as u64;
         let step = (run.depth_step << UP) as u64;
         // The pixels stored in the low half-word and those of them that
         // replaced a fragment in the high one: a run is at most `u16::MAX`
