@@ -428,6 +428,35 @@ pub fn count_mul_add(acc: i64, n: u32, d: i64) -> i64 {
     }
 }
 
+/// `acc + n d` in a word, wrapping, for a count `n` (an edge value `n`
+/// pixels on from `acc`); the caller knows the sum fits. On Armv7-M (the
+/// build script's `arm_long_multiply`) one `mla` written out: left to the
+/// compiler, a value walked this way became a stepped sum again, which the
+/// pixel loops keep live and spill.
+#[inline(always)]
+pub fn word_mul_add(acc: i32, n: u32, d: i32) -> i32 {
+    #[cfg(arm_long_multiply)]
+    {
+        let sum: i32;
+        // SAFETY: register-only arithmetic, no memory, stack or flags.
+        unsafe {
+            core::arch::asm!(
+                "mla {sum}, {n}, {d}, {acc}",
+                sum = lateout(reg) sum,
+                n = in(reg) n,
+                d = in(reg) d,
+                acc = in(reg) acc,
+                options(pure, nomem, nostack, preserves_flags)
+            );
+        }
+        sum
+    }
+    #[cfg(not(arm_long_multiply))]
+    {
+        acc.wrapping_add((n as i32).wrapping_mul(d))
+    }
+}
+
 /// The products of the signed low half-words of `x` and `y` and of their
 /// signed high half-words, added: one `smuad` on Armv7E-M (the build
 /// script's `arm_dual_multiply`: Cortex-M4 and M7), plain multiplication

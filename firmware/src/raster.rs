@@ -10,8 +10,10 @@
 //! look at samples, and only for the edges they do not clear,
 //! through [`CoverageMask::edge_coverage`] (sorted sample thresholds for 4x4,
 //! the edge function stepped across the grid with additions otherwise; SPEC
-//! section 2). Edge values and Gouraud colors are stepped in 32 bits when the
-//! triangle's ranges allow it (the same integers as in 64 bits).
+//! section 2). Edge values and Gouraud colors are walked in 32 bits when the
+//! triangle's ranges allow it (the same integers as in 64 bits); within a
+//! row, a pixel's edge values and depth are the row's values plus its
+//! column's steps, one multiply-accumulate each.
 //!
 //! Fragments are first offered to the buffer without a color; a triangle's
 //! colors are set up when its first fragment survives, and a triangle facing
@@ -23,7 +25,7 @@
 
 use crate::band_buffer::{BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, SHORT_STEP_LIMIT};
-use crate::fixed_point::count_mul_add;
+use crate::fixed_point::{count_mul_add, word_mul_add};
 use crate::fragment::{
     fragment_depth, rounded_depth, rounded_depth_saturated, Fragment, PLANE_HALF_UNIT,
 };
@@ -59,8 +61,9 @@ trait EdgeValue:
     const SHORT_STEPS: bool;
     fn from_i64(v: i64) -> Self;
     fn near(self) -> i32;
-    /// `self * n` (the result is an edge value the walk reaches, so it fits).
-    fn times(self, n: i64) -> Self;
+    /// `self + k step`, the value `k` pixels on (an edge value the walk
+    /// reaches, so it fits).
+    fn at_column(self, step: Self, k: u32) -> Self;
     /// The fewest steps of `step > 0` that take `value < target` to `target`
     /// or beyond (at most `2^30`: beyond any bounding box is as good as
     /// further).
@@ -82,9 +85,9 @@ impl EdgeValue for i32 {
     fn near(self) -> i32 {
         self
     }
-    #[inline]
-    fn times(self, n: i64) -> Self {
-        self * n as i32
+    #[inline(always)]
+    fn at_column(self, step: Self, k: u32) -> Self {
+        word_mul_add(self, k, step)
     }
     #[inline]
     fn steps_to_reach(value: Self, target: Self, step: Self) -> i32 {
@@ -111,9 +114,9 @@ impl EdgeValue for i64 {
     fn near(self) -> i32 {
         self as i32
     }
-    #[inline]
-    fn times(self, n: i64) -> Self {
-        self * n
+    #[inline(always)]
+    fn at_column(self, step: Self, k: u32) -> Self {
+        self + step * k as i64
     }
     #[inline]
     fn steps_to_reach(value: Self, target: Self, step: Self) -> i32 {
@@ -925,13 +928,17 @@ where
                     span: span.from(k),
                 })
             };
-            // Pixels near an edge: their exact masks from the samples.
+            // Pixels near an edge: their exact masks from the samples. A
+            // pixel's edge values are the row's plus its column's steps, by
+            // `EdgeValue::at_column` (one `mla` each in `i32`): stepped, the
+            // three values stayed live through the loop and were spilled
+            // (measured in `docs/m4-benchmark-history.md`).
             macro_rules! edge_pixels {
                 ($from:expr, $to:expr) => {
-                    let mut at: [E; 3] =
-                        core::array::from_fn(|i| e[i] + edges.step_x[i].times($from as i64));
                     let (mut k, to) = ($from, $to);
                     while k < to {
+                        let at: [E; 3] =
+                            core::array::from_fn(|i| e[i].at_column(edges.step_x[i], k as u32));
                         let mask = pixel_coverage::<M, E>(&at, tables, &edges.margin);
                         if !mask.is_empty()
                             && visitor.visit(
@@ -943,9 +950,6 @@ where
                             )
                         {
                             return stop(k);
-                        }
-                        for i in 0..3 {
-                            at[i] = at[i] + edges.step_x[i];
                         }
                         walk.step(&mut color);
                         if stepped {

@@ -209,11 +209,12 @@ pub trait ColorWalk {
     }
 }
 
-/// Half a unit of a value with `bits` fraction bits: the walks add it to
-/// their values once, when they start, so that the channel of every pixel
-/// is rounded by a shift ([`channel`], [`channel_i32`]) instead of an
-/// addition per pixel and channel.
-pub(crate) const fn rounding_bias(bits: u32) -> i64 {
+/// Half a unit of a value with `bits` fraction bits: the color walks add it
+/// to their values once, when they start, so that the channel of every
+/// pixel is rounded by a shift ([`PlaneValue::channel16`],
+/// [`quadratic::QuadraticValue::channel`]) instead of an addition per pixel
+/// and channel.
+pub const fn rounding_bias(bits: u32) -> i64 {
     1 << (bits - 1)
 }
 
