@@ -384,9 +384,9 @@ where
     let mut y = rows.first;
     loop {
         let row = y - rows.band_y0;
-        let mut z = count_mul_add(z_row, span.start as u32, dz);
         for k in span.start..span.end {
             asked += 1;
+            let z = count_mul_add(z_row, k as u32, dz);
             let bound = 16 * rounded_depth_saturated(z) as i64 - reach;
             if !buffer.hides(setup.x0 + k as u16, row, bound) {
                 buffer.count_triangle_test(asked, false);
@@ -397,7 +397,6 @@ where
                     span: span.from(k),
                 });
             }
-            z += dz;
         }
         if y >= rows.last {
             break;
