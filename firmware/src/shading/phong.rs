@@ -4,7 +4,7 @@
 //! integer square root and divisions per pixel: for comparison, not a fast path.
 
 use super::linear::LinearWalk;
-use super::ColorWalk;
+use super::{rounding_bias, ColorWalk};
 use crate::fixed_point::{SUBPIXEL_BITS, UNIT_BITS};
 use crate::lighting::{normalize_unit, rgb888_rounded, ColorQ8, LightSetup};
 use crate::setup::Plane;
@@ -108,7 +108,10 @@ impl ColorWalk for PhongWalk {
         self.normal.next_row()
     }
     fn color(&self, row: &[i64; 3]) -> Rgb888 {
-        rgb888_rounded(shade_interpolated(row, &self.light, self.base))
+        // The normals are not colors: the linear walk started their values
+        // with the colors' rounding bias, taken back here.
+        let normal = row.map(|n| n - rounding_bias(16));
+        rgb888_rounded(shade_interpolated(&normal, &self.light, self.base))
     }
     #[inline]
     fn step(&self, row: &mut [i64; 3]) {
