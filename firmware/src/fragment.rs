@@ -59,15 +59,9 @@ pub const PLANE_EXTRA_BITS: u32 = 16;
 /// every pixel's value with [`rounded_depth`] (a shift, no addition).
 pub const PLANE_HALF_UNIT: i64 = 1 << (PLANE_EXTRA_BITS - 1);
 
-/// Whether the depth plane's value `plane` rounds to a depth in `0 ..=
-/// DEPTH_MAX`, where [`fragment_depth`] is the rounded value shifted down
-/// by [`PLANE_EXTRA_BITS`] and clamps nothing.
-#[inline(always)]
-pub fn depth_in_range(plane: i64) -> bool {
-    rounds_in_range(plane + PLANE_HALF_UNIT)
-}
-
-/// [`depth_in_range`] of a plane value that carries [`PLANE_HALF_UNIT`].
+/// Whether a depth plane's value that carries [`PLANE_HALF_UNIT`] rounds to
+/// a depth in `0 ..= DEPTH_MAX`, where [`rounded_depth`] is the value
+/// shifted down by [`PLANE_EXTRA_BITS`] and clamps nothing.
 #[inline(always)]
 pub fn rounds_in_range(biased: i64) -> bool {
     (biased as u64) < (DEPTH_MAX as u64 + 1) << PLANE_EXTRA_BITS
