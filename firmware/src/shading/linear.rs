@@ -32,6 +32,16 @@ impl<V: PlaneValue> LinearWalk<V> {
     }
 }
 
+impl LinearWalk<i64> {
+    /// The planes' own values in a row's state (the walk's values less the
+    /// [`rounding_bias`] they carry): for planes that are not colors, such
+    /// as Phong's normals.
+    #[inline]
+    pub fn plane_values(row: &[i64; 3]) -> [i64; 3] {
+        row.map(|v| v - rounding_bias(16))
+    }
+}
+
 impl LinearWalk<i32> {
     /// Whether every value of planes `p` over the bounding box of `setup`
     /// (and one step beyond it) is below 2^30 in magnitude, so the walk can

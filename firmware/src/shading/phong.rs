@@ -4,7 +4,7 @@
 //! integer square root and divisions per pixel: for comparison, not a fast path.
 
 use super::linear::LinearWalk;
-use super::{rounding_bias, ColorWalk};
+use super::ColorWalk;
 use crate::fixed_point::{SUBPIXEL_BITS, UNIT_BITS};
 use crate::lighting::{normalize_unit, rgb888_rounded, ColorQ8, LightSetup};
 use crate::setup::Plane;
@@ -82,6 +82,8 @@ impl PhongWalk {
     /// Starts at row `j` of the bounding box.
     pub fn start(p: &PhongPlanes, j: i64) -> Self {
         Self {
+            // Its values carry the colors' rounding bias; `color` reads
+            // the normals themselves (`LinearWalk::plane_values`).
             normal: LinearWalk::start(&p.normal, j),
             light: p.light,
             base: p.base,
@@ -108,9 +110,7 @@ impl ColorWalk for PhongWalk {
         self.normal.next_row()
     }
     fn color(&self, row: &[i64; 3]) -> Rgb888 {
-        // The normals are not colors: the linear walk started their values
-        // with the colors' rounding bias, taken back here.
-        let normal = row.map(|n| n - rounding_bias(16));
+        let normal = LinearWalk::plane_values(row);
         rgb888_rounded(shade_interpolated(&normal, &self.light, self.base))
     }
     #[inline]
