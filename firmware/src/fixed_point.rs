@@ -457,6 +457,27 @@ pub fn word_mul_add(acc: i32, n: u32, d: i32) -> i32 {
     }
 }
 
+/// `i`, through an empty `asm!` statement: the compiler no longer knows
+/// how it was computed. A loop whose index passes through it has no turn
+/// count the compiler can work out, so it is not unrolled. The z-buffer's
+/// runs take it ([`crate::shading::ColorWalk::UNROLLED_RUNS`]): unrolled
+/// two pixels a turn, each row paid about 40 instructions of set-up for
+/// runs of three or four pixels.
+#[inline(always)]
+pub fn uncounted(i: usize) -> usize {
+    let mut i = i;
+    // SAFETY: an empty statement (a comment naming the register): no
+    // instruction, memory, stack or flags.
+    unsafe {
+        core::arch::asm!(
+            "/* {i} */",
+            i = inout(reg) i,
+            options(pure, nomem, nostack, preserves_flags)
+        );
+    }
+    i
+}
+
 /// The products of the signed low half-words of `x` and `y` and of their
 /// signed high half-words, added: one `smuad` on Armv7E-M (the build
 /// script's `arm_dual_multiply`: Cortex-M4 and M7), plain multiplication

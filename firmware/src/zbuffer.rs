@@ -2,6 +2,7 @@
 
 use crate::band_buffer::{insert_each, BandBuffer, FullRun};
 use crate::coverage::{CoverageMask, Mask1x1};
+use crate::fixed_point::uncounted;
 use crate::fragment::{rounds_in_range, Fragment, PLANE_EXTRA_BITS};
 use crate::shading::ColorWalk;
 use crate::sink::LinePixel;
@@ -127,7 +128,7 @@ impl<P: LinePixel> BandBuffer<Mask1x1> for ZBuffer<'_, P> {
         let mut counts = 0u32;
         let depths = &mut self.band.depth[start..end];
         let colors = &mut self.band.color[start..end];
-        for (stored_depth, stored_color) in depths.iter_mut().zip(colors) {
+        let mut pixel = |stored_depth: &mut u32, stored_color: &mut P| {
             let z = (rounded >> 32) as u32;
             if z <= *stored_depth {
                 counts += 1 + if *stored_depth != EMPTY_DEPTH {
@@ -140,6 +141,17 @@ impl<P: LinePixel> BandBuffer<Mask1x1> for ZBuffer<'_, P> {
             }
             walk.step(color);
             rounded = rounded.wrapping_add(step);
+        };
+        if W::UNROLLED_RUNS {
+            for (stored_depth, stored_color) in depths.iter_mut().zip(colors) {
+                pixel(stored_depth, stored_color);
+            }
+        } else {
+            let mut i = 0;
+            while i < depths.len() {
+                pixel(&mut depths[i], &mut colors[i]);
+                i = uncounted(i + 1);
+            }
         }
         let (stored, replaced) = (counts & (REPLACED - 1), counts >> 16);
         self.stats.fragments_stored += stored;

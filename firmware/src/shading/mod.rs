@@ -192,6 +192,13 @@ pub fn clipped_piece_source<'l>(
 pub trait ColorWalk {
     /// The state while walking one row.
     type Row;
+    /// Whether a z-buffer's run of pixels ([`crate::band_buffer::BandBuffer::insert_full_run`])
+    /// may be stepped by a loop the compiler unrolls. Off by default: on
+    /// the short runs of dense meshes the unrolled loop's set-up per row
+    /// costs more than it saves (3.5 % of `blob`'s z-buffer frame). On for
+    /// the 64-bit quadratic walk, whose twelve words of state per pixel
+    /// the unrolled loop handles better.
+    const UNROLLED_RUNS: bool = false;
     /// The state at the first pixel of the current row.
     fn row(&self) -> Self::Row;
     /// Moves to the next row.

@@ -196,6 +196,7 @@ impl<V: QuadraticValue> QuadraticWalk<V> {
 
 impl<V: QuadraticValue> ColorWalk for QuadraticWalk<V> {
     type Row = QuadraticRow<V>;
+    const UNROLLED_RUNS: bool = core::mem::size_of::<V>() > 4;
     #[inline]
     fn row(&self) -> QuadraticRow<V> {
         QuadraticRow {
