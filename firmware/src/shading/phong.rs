@@ -117,4 +117,9 @@ impl ColorWalk for PhongWalk {
     fn step(&self, row: &mut [i64; 3]) {
         self.normal.step(row)
     }
+    #[inline]
+    fn skip(&self, row: &mut [i64; 3], n: u16) {
+        // The normals' walk skips in one multiplication, not `n` steps.
+        self.normal.skip(row, n)
+    }
 }
