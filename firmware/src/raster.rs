@@ -706,7 +706,14 @@ impl<M: CoverageMask, E: EdgeValue> EdgeWalk<M, E> {
     /// The span of the row whose first pixel has edge values `e`.
     #[inline(always)]
     fn span(&self, e: &[E; 3]) -> RowSpan {
-        row_span(e, &self.step_x, &self.margin, self.columns, M::SAMPLES == 1)
+        // With one sample, at the center, every margin is zero: said here,
+        // the loops of the z-buffer's rows neither load nor negate them.
+        let margin = if M::SAMPLES == 1 {
+            [E::ZERO; 3]
+        } else {
+            self.margin
+        };
+        row_span(e, &self.step_x, &margin, self.columns, M::SAMPLES == 1)
     }
 
     /// Steps the edge values `e_row` and the depth `z_row` at the bounding
