@@ -320,6 +320,17 @@ pub fn signed_area2(v: &[SetupVertex; 3]) -> i64 {
     (v[1].x as i64 - x0) * (v[2].y as i64 - y0) - (v[2].x as i64 - x0) * (v[1].y as i64 - y0)
 }
 
+/// [`signed_area2`] of corners within the guard band (`±2^16` in 1/16
+/// pixel, as [`TriangleSetup`]'s accepted corners): their differences fit
+/// `i32`, and each product is one 32 x 32 -> 64-bit multiplication instead
+/// of a product of two 64-bit differences.
+#[inline]
+fn signed_area2_within_guard_band(v: &[SetupVertex; 3]) -> i64 {
+    let (x0, y0) = (v[0].x, v[0].y);
+    let product = |a: i32, b: i32| a as i64 * b as i64;
+    product(v[1].x - x0, v[2].y - y0) - product(v[2].x - x0, v[1].y - y0)
+}
+
 /// The largest depth-plane step kept (a full depth range per pixel); steeper
 /// triangles are edge-on and cover almost nothing.
 const DEPTH_STEP_LIMIT: i64 = 1 << 40;
@@ -352,7 +363,20 @@ impl TriangleSetup {
         width: u16,
         height: u16,
     ) -> Result<Accepted<'_>, Rejection> {
-        let area2 = signed_area2(v);
+        // Clamped corners fit `i32` (±2^16), their differences too (±2^17):
+        // the products of setup are single 32 x 32 -> 64-bit multiplications.
+        let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
+        // Vertices already within the guard band (every one that was not
+        // clipped) need no clamp: one unsigned comparison each says so.
+        let within = |c: i32| c.wrapping_add(lim) as u32 <= 2 * lim as u32;
+        let all_within = v.iter().all(|p| within(p.x) & within(p.y));
+        // The area of the corners as given; within the guard band, from
+        // their differences in `i32` (the same integer).
+        let area2 = if all_within {
+            signed_area2_within_guard_band(v)
+        } else {
+            signed_area2(v)
+        };
         if area2 == 0 {
             return Err(Rejection::Degenerate);
         }
@@ -362,13 +386,6 @@ impl TriangleSetup {
         // Order so that the edge functions are positive inside.
         let swapped = area2 < 0;
         let order = if swapped { [0, 2, 1] } else { [0, 1, 2] };
-        // Clamped corners fit `i32` (±2^16), their differences too (±2^17):
-        // the products of setup are single 32 x 32 -> 64-bit multiplications.
-        let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
-        // Vertices already within the guard band (every one that was not
-        // clipped) need no clamp: one unsigned comparison each says so.
-        let within = |c: i32| c.wrapping_add(lim) as u32 <= 2 * lim as u32;
-        let all_within = v.iter().all(|p| within(p.x) & within(p.y));
         let (xs, ys) = if all_within {
             (order.map(|k| v[k].x), order.map(|k| v[k].y))
         } else {
