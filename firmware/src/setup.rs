@@ -570,4 +570,29 @@ mod tests {
         check::<Mask4x4>(&mut next);
         check::<Mask8x8>(&mut next);
     }
+
+    /// Within the guard band, the area from `i32` differences is
+    /// [`signed_area2`]'s, corners at the band's edges included.
+    #[test]
+    fn area_within_the_guard_band_is_the_signed_area() {
+        let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
+        let mut next = crate::test_rng::xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut coordinate = || match next() % 4 {
+            0 => -lim,
+            1 => lim,
+            _ => (next() % (2 * lim as u64 + 1)) as i32 - lim,
+        };
+        for _ in 0..100_000 {
+            let v: [SetupVertex; 3] = core::array::from_fn(|_| SetupVertex {
+                x: coordinate(),
+                y: coordinate(),
+                z: 0,
+            });
+            assert_eq!(
+                signed_area2_within_guard_band(&v),
+                signed_area2(&v),
+                "{v:?}"
+            );
+        }
+    }
 }
