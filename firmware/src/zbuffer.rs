@@ -69,7 +69,11 @@ impl<P: LinePixel> BandBuffer<Mask1x1> for ZBuffer<'_, P> {
         let Some(depths) = self.band.depth.get(start + x0..start + x1 + 1) else {
             return 0;
         };
-        depths.iter().take_while(|&&d| d < nearer_than).count() as u32
+        let mut hidden = 0;
+        while hidden < depths.len() && depths[hidden] < nearer_than {
+            hidden = uncounted(hidden + 1);
+        }
+        hidden as u32
     }
 
     fn count_triangle_test(&mut self, pixels: u32, hidden: bool) {
