@@ -463,20 +463,42 @@ pub fn word_mul_add(acc: i32, n: u32, d: i32) -> i32 {
 /// runs take it ([`crate::shading::ColorWalk::UNROLLED_RUNS`]): unrolled
 /// two pixels a turn, each row paid about 40 instructions of set-up for
 /// runs of three or four pixels. So does its whole-band test's scan of a
-/// row's depths, which mostly stops within a few pixels.
+/// row's depths, which mostly stops within a few pixels. On targets
+/// without stable inline assembly, `i` as it is.
 #[inline(always)]
 pub fn uncounted(i: usize) -> usize {
-    let mut i = i;
-    // SAFETY: an empty statement (a comment naming the register): no
-    // instruction, memory, stack or flags.
-    unsafe {
-        core::arch::asm!(
-            "/* {i} */",
-            i = inout(reg) i,
-            options(pure, nomem, nostack, preserves_flags)
-        );
+    #[cfg(any(
+        target_arch = "arm",
+        target_arch = "aarch64",
+        target_arch = "x86",
+        target_arch = "x86_64",
+        target_arch = "riscv32",
+        target_arch = "riscv64"
+    ))]
+    {
+        let mut i = i;
+        // SAFETY: an empty statement (a comment naming the register): no
+        // instruction, memory, stack or flags.
+        unsafe {
+            core::arch::asm!(
+                "/* {i} */",
+                i = inout(reg) i,
+                options(pure, nomem, nostack, preserves_flags)
+            );
+        }
+        i
     }
-    i
+    #[cfg(not(any(
+        target_arch = "arm",
+        target_arch = "aarch64",
+        target_arch = "x86",
+        target_arch = "x86_64",
+        target_arch = "riscv32",
+        target_arch = "riscv64"
+    )))]
+    {
+        i
+    }
 }
 
 /// The products of the signed low half-words of `x` and `y` and of their
