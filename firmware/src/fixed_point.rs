@@ -467,6 +467,9 @@ pub fn word_mul_add(acc: i32, n: u32, d: i32) -> i32 {
 /// without stable inline assembly, `i` as it is.
 #[inline(always)]
 pub fn uncounted(i: usize) -> usize {
+    // Left as it is where the statement below is not compiled.
+    #[allow(unused_mut)]
+    let mut i = i;
     #[cfg(any(
         target_arch = "arm",
         target_arch = "aarch64",
@@ -475,30 +478,12 @@ pub fn uncounted(i: usize) -> usize {
         target_arch = "riscv32",
         target_arch = "riscv64"
     ))]
-    {
-        let mut i = i;
-        // SAFETY: an empty statement (a comment naming the register): no
-        // instruction, memory, stack or flags.
-        unsafe {
-            core::arch::asm!(
-                "/* {i} */",
-                i = inout(reg) i,
-                options(pure, nomem, nostack, preserves_flags)
-            );
-        }
-        i
+    // SAFETY: an empty statement (a comment naming the register): no
+    // instruction, memory, stack or flags.
+    unsafe {
+        core::arch::asm!("/* {i} */", i = inout(reg) i, options(pure, nomem, nostack, preserves_flags));
     }
-    #[cfg(not(any(
-        target_arch = "arm",
-        target_arch = "aarch64",
-        target_arch = "x86",
-        target_arch = "x86_64",
-        target_arch = "riscv32",
-        target_arch = "riscv64"
-    )))]
-    {
-        i
-    }
+    i
 }
 
 /// The products of the signed low half-words of `x` and `y` and of their
