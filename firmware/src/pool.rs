@@ -42,14 +42,24 @@ const NO_SLOT: u32 = u32::MAX;
 
 /// A pool of fragment slots with O(1) allocation, release and reset.
 ///
-/// Never-used slots are handed out in order (a bump index); released slots go on
-/// a free list threaded through the slots themselves, so the pool needs no memory
-/// beyond its slots. [`SharedPool::reset`] empties it at the end of a band.
+/// Never-used slots are handed out in order (a bump index), and only when
+/// none is left the released ones, which wait on a free list threaded
+/// through the slots themselves, so the pool needs no memory beyond its
+/// slots. Either way an allocation fails only when every slot is in use.
+/// [`SharedPool::reset`] empties it at the end of a band.
+///
+/// Slots in use are the bump index less the slots on the free list, and the
+/// peak is brought up to date only where that number falls (a release, a
+/// reset) and when asked: an allocation from the bump index, the common
+/// one, writes nothing but the index.
 pub struct SharedPool<'a, M: CoverageMask> {
     slots: &'a mut [PackedFragment<M>],
     bump: u32,
     free_head: u32,
-    in_use: u32,
+    /// Slots on the free list.
+    released: u32,
+    /// The most slots in use at once, up to the last release, reset or
+    /// [`SharedPool::clear_peak`] (the slots in use now may be more).
     peak: u32,
 }
 
@@ -60,7 +70,7 @@ impl<'a, M: CoverageMask> SharedPool<'a, M> {
             slots,
             bump: 0,
             free_head: NO_SLOT,
-            in_use: 0,
+            released: 0,
             peak: 0,
         }
     }
@@ -74,57 +84,57 @@ impl<'a, M: CoverageMask> SharedPool<'a, M> {
     /// Slots in use now.
     #[inline]
     pub fn in_use(&self) -> usize {
-        self.in_use as usize
+        (self.bump - self.released) as usize
     }
 
     /// The most slots in use at once since the last [`SharedPool::clear_peak`].
     #[inline]
     pub fn peak(&self) -> usize {
-        self.peak as usize
+        (self.peak as usize).max(self.in_use())
     }
 
     /// Forgets the peak.
     pub fn clear_peak(&mut self) {
-        self.peak = self.in_use;
+        self.peak = self.in_use() as u32;
     }
 
     /// Whether a slot can be allocated.
     #[inline]
     pub fn has_free(&self) -> bool {
-        (self.in_use as usize) < self.slots.len()
+        self.in_use() < self.slots.len()
     }
 
     /// Takes a free slot, or `None` when the pool is full.
     #[inline]
     pub fn allocate(&mut self) -> Option<usize> {
-        let index = if self.free_head != NO_SLOT {
+        if (self.bump as usize) < self.slots.len() {
+            self.bump += 1;
+            Some(self.bump as usize - 1)
+        } else if self.free_head != NO_SLOT {
             let i = self.free_head;
             self.free_head = self.slots[i as usize].link();
-            i
-        } else if (self.bump as usize) < self.slots.len() {
-            self.bump += 1;
-            self.bump - 1
+            self.released -= 1;
+            Some(i as usize)
         } else {
-            return None;
-        };
-        self.in_use += 1;
-        self.peak = self.peak.max(self.in_use);
-        Some(index as usize)
+            None
+        }
     }
 
     /// Returns a slot to the pool.
     #[inline]
     pub fn release(&mut self, index: usize) {
+        self.peak = self.peak() as u32;
         self.slots[index].set_link(self.free_head);
         self.free_head = index as u32;
-        self.in_use -= 1;
+        self.released += 1;
     }
 
-    /// Frees every slot at once (end of a band).
+    /// Frees every slot at once (end of a band); the peak stays.
     pub fn reset(&mut self) {
+        self.peak = self.peak() as u32;
         self.bump = 0;
         self.free_head = NO_SLOT;
-        self.in_use = 0;
+        self.released = 0;
     }
 
     /// The slot at `index`.
@@ -161,6 +171,16 @@ mod tests {
         assert_eq!(pool.peak(), 3);
         pool.reset();
         assert_eq!(pool.in_use(), 0);
+        assert_eq!(pool.peak(), 3, "a reset keeps the peak");
+        pool.clear_peak();
+        assert_eq!(pool.peak(), 0);
         assert_eq!(pool.allocate(), Some(0));
+        let d = pool.allocate().unwrap();
+        pool.release(d);
+        assert_eq!(
+            (pool.in_use(), pool.peak()),
+            (1, 2),
+            "a release keeps the peak"
+        );
     }
 }
