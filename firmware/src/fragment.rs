@@ -255,6 +255,18 @@ impl<M: CoverageMask> PackedFragment<M> {
         self.z_red & LOW24
     }
 
+    /// Depth change per pixel step in x.
+    #[inline]
+    pub fn dzdx(&self) -> i32 {
+        sign_extend_24(self.dzdx_green)
+    }
+
+    /// Depth change per pixel step in y.
+    #[inline]
+    pub fn dzdy(&self) -> i32 {
+        sign_extend_24(self.dzdy_blue)
+    }
+
     /// The slot's link word while it sits on the pool's free list.
     #[inline]
     pub(crate) fn link(&self) -> u32 {

@@ -22,7 +22,7 @@ use crate::merge::merge_fragments;
 use crate::pool::{PoolAddress, SharedPool};
 use crate::sink::LinePixel;
 use crate::stats::BufferStats;
-use crate::visibility::visibility_mask;
+use crate::visibility::visibility_against_plane;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 
 /// What happens when a pixel must hold one fragment more than it may.
@@ -724,7 +724,8 @@ impl<'a, M: CoverageMask, A: PoolAddress, S: BufferShape> FragmentBuffer<'a, M, 
             let overlap = stored.mask() & left;
             if !overlap.is_empty() {
                 // Samples where the stored fragment is strictly nearer stay its own.
-                let vis = visibility_mask(fragment, &stored.unpack());
+                let vis =
+                    visibility_against_plane(fragment, stored.z(), stored.dzdx(), stored.dzdy());
                 left = left & !(overlap & !vis);
             }
             left.is_empty()
@@ -831,11 +832,10 @@ impl<'a, M: CoverageMask, A: PoolAddress, S: BufferShape> FragmentBuffer<'a, M, 
             if overlap.is_empty() {
                 return false;
             }
-            let b = stored.unpack();
-            let vis = visibility_mask(&f, &b);
-            let b_mask = b.mask & !(overlap & vis);
+            let vis = visibility_against_plane(&f, stored.z(), stored.dzdx(), stored.dzdy());
+            let b_mask = stored.mask() & !(overlap & vis);
             f.mask = f.mask & !(overlap & !vis);
-            if b_mask != b.mask {
+            if b_mask != stored.mask() {
                 stored.set_mask(b_mask);
                 emptied |= b_mask.is_empty();
             }

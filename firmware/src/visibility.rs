@@ -12,10 +12,25 @@ use crate::fragment::Fragment;
 /// Samples where `a` is nearer than or as near as `b`.
 #[inline]
 pub fn visibility_mask<M: CoverageMask>(a: &Fragment<M>, b: &Fragment<M>) -> M {
+    visibility_against_plane(a, b.z, b.dzdx, b.dzdy)
+}
+
+/// [`visibility_mask`] of `a` against the depth plane of a fragment given
+/// by its center depth `z` and gradients `dzdx`, `dzdy` (a stored
+/// fragment's, read from its packed form without unpacking the rest: the
+/// function is called out of line, and the whole fragment went through
+/// the stack).
+#[inline]
+pub fn visibility_against_plane<M: CoverageMask>(
+    a: &Fragment<M>,
+    z: u32,
+    dzdx: i32,
+    dzdy: i32,
+) -> M {
     // Difference plane D = depth_a - depth_b (scaled by 16), |D| < 2^30.
-    let dz = ((a.z as i32) - (b.z as i32)) << 4;
-    let ddx = a.dzdx - b.dzdx;
-    let ddy = a.dzdy - b.dzdy;
+    let dz = ((a.z as i32) - (z as i32)) << 4;
+    let ddx = a.dzdx - dzdx;
+    let ddy = a.dzdy - dzdy;
     let d_first = dz + ddx * M::offset_x(0) + ddy * M::offset_y(0);
     let span_x = ddx * (M::offset_x(M::COLS - 1) - M::offset_x(0));
     let span_y = ddy * (M::offset_y(M::ROWS - 1) - M::offset_y(0));
