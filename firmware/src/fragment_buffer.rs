@@ -778,7 +778,7 @@ impl<'a, M: CoverageMask, A: PoolAddress, S: BufferShape> FragmentBuffer<'a, M, 
     }
 
     /// [`BandBuffer::insert`] into pixel `p` (column `x`) that already holds
-    /// fragments, the fragment given by its fields.
+    /// `count` fragments, the fragment given by its fields.
     // Fields, not a reference: for the reference the rasterizer's loops
     // (where `insert` is inlined) wrote every fragment to the stack, taken
     // this path or not (0.24 M instructions a teapot frame, 0.57 M on
@@ -789,6 +789,7 @@ impl<'a, M: CoverageMask, A: PoolAddress, S: BufferShape> FragmentBuffer<'a, M, 
         &mut self,
         x: u16,
         p: usize,
+        count: u8,
         mask: M,
         z: u32,
         dzdx: i32,
@@ -802,7 +803,7 @@ impl<'a, M: CoverageMask, A: PoolAddress, S: BufferShape> FragmentBuffer<'a, M, 
             dzdy,
             color,
         };
-        let mut n = self.counts[p] as usize;
+        let mut n = count as usize;
         let beside = match n {
             1 => self.insert_beside::<1>(x, p, fragment),
             2 => self.insert_beside::<2>(x, p, fragment),
@@ -958,7 +959,8 @@ impl<M: CoverageMask, A: PoolAddress, S: BufferShape> BandBuffer<M>
     #[inline]
     fn insert(&mut self, x: u16, row: u16, fragment: &Fragment<M>) {
         let p = self.pixel_index(x, row);
-        if self.counts[p] == 0 {
+        let count = self.counts[p];
+        if count == 0 {
             // The first fragment of a pixel goes to its first main slot.
             let packed = PackedFragment::pack(fragment);
             self.main[p * self.main_slots()] = packed;
@@ -972,6 +974,7 @@ impl<M: CoverageMask, A: PoolAddress, S: BufferShape> BandBuffer<M>
         self.insert_into_list(
             x,
             p,
+            count,
             fragment.mask,
             fragment.z,
             fragment.dzdx,
