@@ -715,10 +715,11 @@ impl<'a, M: CoverageMask, A: PoolAddress, S: BufferShape> FragmentBuffer<'a, M, 
         self.stats.fragments_stored += 1;
     }
 
-    /// [`BandBuffer::survives`] for pixel `p`, which holds fragments.
+    /// [`BandBuffer::survives`] for pixel `p`, which holds `count` fragments
+    /// (at least one).
     #[inline(never)]
-    fn survives_in_list(&mut self, p: usize, fragment: &Fragment<M>) -> bool {
-        let n = self.counts[p] as usize;
+    fn survives_in_list(&mut self, p: usize, count: u8, fragment: &Fragment<M>) -> bool {
+        let n = count as usize;
         let mut left = fragment.mask;
         let hidden = self.any_stored(p, n, |stored| {
             let overlap = stored.mask() & left;
@@ -951,7 +952,8 @@ impl<M: CoverageMask, A: PoolAddress, S: BufferShape> BandBuffer<M>
     #[inline]
     fn survives(&mut self, x: u16, row: u16, fragment: &Fragment<M>) -> bool {
         let p = self.pixel_index(x, row);
-        self.counts[p] == 0 || self.survives_in_list(p, fragment)
+        let count = self.counts[p];
+        count == 0 || self.survives_in_list(p, count, fragment)
     }
 
     // Inlined into the rasterizer: a pixel's first fragment (most of them) is
