@@ -658,17 +658,22 @@ impl<'a, M: CoverageMask, A: PoolAddress, S: BufferShape> FragmentBuffer<'a, M, 
             green += fg as u32 * k;
             covered += k;
         };
-        // The pixel's main slots, then the pool slots its addresses name
-        // (index loops: the slices' iterators cost more set-up than the
-        // one to three entries a pixel holds).
+        // The pixel's main slots (an index loop: the slice's iterator cost
+        // more set-up than the one to three entries a pixel holds), then the
+        // pool slots its addresses name, over the addresses' slice, its
+        // bounds checked once (indexed, the loop checked each address and
+        // kept the pool's slice on the stack).
         let in_main = n.min(n_main);
         let main = p * n_main;
-        for i in 0..in_main {
+        // The first main slot outside the loop: the pixel holds a fragment
+        // (the loop tested `n` for zero).
+        add(&self.main[main]);
+        for i in 1..in_main {
             add(&self.main[main + i]);
         }
-        let addresses = p * self.extra_addresses();
-        for i in 0..n - in_main {
-            add(self.pool.get(self.addresses[addresses + i].index()));
+        let n_extra = self.extra_addresses();
+        for a in &self.addresses[p * n_extra..][..n - in_main] {
+            add(self.pool.get(a.index()));
         }
         let rest = M::SAMPLES - covered.min(M::SAMPLES);
         let (half, shift) = (M::SAMPLES / 2, M::SAMPLES_LOG2);
