@@ -191,17 +191,29 @@ impl FitBasis {
         {
             return None;
         }
-        let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
-        let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
-        let area2 = dx1 * dy2 - dx2 * dy1;
+        // Within the guard band the corners are words (±2^16), their
+        // differences too (±2^17), and so are the offsets of the box's first
+        // pixel center from vertex 0 (its origin below 4096 pixels: below
+        // 2^17 + 8): each product below is one 32 x 32-bit multiplication.
+        let (xs, ys) = (xs.map(|c| c as i32), ys.map(|c| c as i32));
+        let wide = |a: i32, b: i32| a as i64 * b as i64;
+        let (mut dx1, mut dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
+        let (mut dx2, mut dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
+        let area2 = wide(dx1, dy2) - wide(dx2, dy1);
         if area2 == 0 || size.0 < 1 || size.1 < 1 {
             return None;
         }
-        let sign = area2.signum();
+        // Each numerator below is linear in the steps to vertex 2 (`s`) or
+        // to vertex 1 (`t`): with every step negated where the area is
+        // negative, they are the numerators times the area's sign (the
+        // same integers as that product).
+        if area2 < 0 {
+            (dx1, dy1, dx2, dy2) = (-dx1, -dy1, -dx2, -dy2);
+        }
         let area2 = area2.abs();
-        let half = 1i64 << (SUBPIXEL_BITS - 1);
-        let u0 = (origin.0 << SUBPIXEL_BITS) + half - xs[0];
-        let v0 = (origin.1 << SUBPIXEL_BITS) + half - ys[0];
+        let half = 1 << (SUBPIXEL_BITS - 1);
+        let u0 = ((origin.0 as i32) << SUBPIXEL_BITS) + half - xs[0];
+        let v0 = ((origin.1 as i32) << SUBPIXEL_BITS) + half - ys[0];
         let p = bits_above(size.0);
         let q = bits_above(size.1);
         // s * area2 = (x - x0) dy2 - (y - y0) dx2 with x = 16 (x0 + u 2^p) + 8 ...;
@@ -215,16 +227,16 @@ impl FitBasis {
             _ => Reciprocal::new(area2 as u64),
         };
         let scale = SUBPIXEL_BITS + BARYCENTRIC_BITS;
-        let at = |n: i64, extra: u32| reciprocal.mul_div_round(sign * n, extra);
+        let at = |n: i64, extra: u32| reciprocal.mul_div_round(n, extra);
         let (s0, su, sv) = (
-            at(u0 * dy2 - v0 * dx2, BARYCENTRIC_BITS),
-            at(dy2, scale + p),
-            at(-dx2, scale + q),
+            at(wide(u0, dy2) - wide(v0, dx2), BARYCENTRIC_BITS),
+            at(dy2 as i64, scale + p),
+            at(-dx2 as i64, scale + q),
         );
         let (t0, tu, tv) = (
-            at(dx1 * v0 - dy1 * u0, BARYCENTRIC_BITS),
-            at(-dy1, scale + p),
-            at(dx1, scale + q),
+            at(wide(dx1, v0) - wide(dy1, u0), BARYCENTRIC_BITS),
+            at(-dy1 as i64, scale + p),
+            at(dx1 as i64, scale + q),
         );
         let extent = (s0.abs() + su.abs() + sv.abs()).max(t0.abs() + tu.abs() + tv.abs());
         if extent >= BARYCENTRIC_LIMIT {
@@ -449,5 +461,85 @@ impl ChannelWeights {
             epsilon: 4 * m20 - 3 * c0 - c2,
             c0,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::xorshift;
+
+    /// The barycentric planes of `FitBasis::new` from 64-bit differences
+    /// and products, each numerator times the area's sign.
+    fn planes_in_i64(
+        xs: &[i64; 3],
+        ys: &[i64; 3],
+        origin: (i64, i64),
+        size: (i64, i64),
+    ) -> Option<([i32; 3], [i32; 3])> {
+        let (dx1, dy1) = (xs[1] - xs[0], ys[1] - ys[0]);
+        let (dx2, dy2) = (xs[2] - xs[0], ys[2] - ys[0]);
+        let area2 = dx1 * dy2 - dx2 * dy1;
+        if area2 == 0 {
+            return None;
+        }
+        let sign = area2.signum();
+        let reciprocal = Reciprocal::new(area2.unsigned_abs());
+        let half = 1i64 << (SUBPIXEL_BITS - 1);
+        let u0 = (origin.0 << SUBPIXEL_BITS) + half - xs[0];
+        let v0 = (origin.1 << SUBPIXEL_BITS) + half - ys[0];
+        let (p, q) = (bits_above(size.0), bits_above(size.1));
+        let scale = SUBPIXEL_BITS + BARYCENTRIC_BITS;
+        let at = |n: i64, extra: u32| reciprocal.mul_div_round(sign * n, extra);
+        let s = [
+            at(u0 * dy2 - v0 * dx2, BARYCENTRIC_BITS),
+            at(dy2, scale + p),
+            at(-dx2, scale + q),
+        ];
+        let t = [
+            at(dx1 * v0 - dy1 * u0, BARYCENTRIC_BITS),
+            at(-dy1, scale + p),
+            at(dx1, scale + q),
+        ];
+        let sum = |v: &[i64; 3]| v.iter().map(|c| c.abs()).sum::<i64>();
+        if sum(&s).max(sum(&t)) >= BARYCENTRIC_LIMIT {
+            return None;
+        }
+        Some((s.map(|v| v as i32), t.map(|v| v as i32)))
+    }
+
+    #[test]
+    fn planes_in_words_equal_the_64_bit_planes() {
+        // Corners anywhere in the guard band (its edges included), both
+        // orientations, boxes anywhere up to 4096 pixels.
+        let mut next = xorshift(0x0f17_ba5e_5eed_2024);
+        let guard = (GUARD_BAND_PX as i64) << SUBPIXEL_BITS;
+        let mut fitted = 0;
+        for i in 0..200_000 {
+            let reach = [guard, 4096, 256][i % 3];
+            let mut corner = || {
+                let c = (next() % (2 * reach as u64 + 1)) as i64 - reach;
+                if next().is_multiple_of(16) {
+                    c.signum() * guard
+                } else {
+                    c
+                }
+            };
+            let (xs, ys) = (
+                [corner(), corner(), corner()],
+                [corner(), corner(), corner()],
+            );
+            let mut count = |n: u64| (next() % n) as i64;
+            let origin = (count(4097), count(4097));
+            let size = (1 + count(4096), 1 + count(4096));
+            let basis = FitBasis::new(&xs, &ys, origin, size, None);
+            assert_eq!(
+                basis.as_ref().map(|b| (b.s, b.t)),
+                planes_in_i64(&xs, &ys, origin, size),
+                "{xs:?} {ys:?} {origin:?} {size:?}"
+            );
+            fitted += basis.is_some() as u32;
+        }
+        assert!(fitted > 10_000, "{fitted}");
     }
 }
