@@ -1,6 +1,7 @@
 //! The lit edge midpoints: the three samples besides the vertices.
 
 use super::QuadraticSamples;
+use crate::fixed_point::wide_mul_add;
 use crate::lighting::{color_q8, normalize_unit, rgb888_rounded, ColorQ8};
 use crate::shading::TriangleLighting;
 
@@ -59,9 +60,15 @@ pub fn midpoint_normal(a: &[i32; 3], b: &[i32; 3]) -> Option<[i32; 3]> {
     };
     // Below 2^31 (see `rsqrt_q28`): with the sum's components (words) one
     // 32 x 32-bit product each.
-    let y = rsqrt_q28(x) as i32 as i64;
-    let shift = (30 - extra) as u32;
-    Some(sum.map(|c| ((c as i32 as i64 * y + (1 << (shift - 1))) >> shift) as i32))
+    let y = rsqrt_q28(x) as i32;
+    // Each component is `(c y + 2^(s - 1)) >> s` for `s = 30 - extra`,
+    // rounded: the same quotient as the high word of `c 2^(32 - s) y + 2^31`
+    // (numerator and divisor scaled by `2^(32 - s)`), one multiply-accumulate
+    // and no 64-bit shift by a variable amount. The scaled component is a
+    // word: `c² <= len2 < 2^31` puts `|c|` below 2^15.5, and `32 - s` is at
+    // most 3.
+    let up = (2 + extra) as u32;
+    Some(sum.map(|c| (wide_mul_add(1 << 31, (c as i32) << up, y) >> 32) as i32))
 }
 
 /// Largest deviation of a midpoint sample from the mean of its edge's vertex

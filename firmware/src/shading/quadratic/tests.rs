@@ -545,6 +545,42 @@ fn midpoint_normal_matches_float_normalization() {
 }
 
 #[test]
+fn midpoint_normal_scaled_by_the_high_word_equals_the_64_bit_shift() {
+    // The normal as first scaled: each component times the reciprocal
+    // square root, rounded by a 64-bit shift of 29 to 31 bits.
+    fn scaled_in_64_bits(a: &[i32; 3], b: &[i32; 3]) -> Option<[i32; 3]> {
+        let sum = [0, 1, 2].map(|k| a[k].wrapping_add(b[k]) as i64);
+        let len2 = sum.iter().map(|c| (c * c) as u64).sum::<u64>();
+        if !(1 << 26..1 << 31).contains(&len2) {
+            return midpoint_normal(a, b);
+        }
+        let (x, extra) = if len2 >= 1 << 30 {
+            (len2 >> 2, -1)
+        } else if len2 >= 1 << 28 {
+            (len2, 0)
+        } else {
+            (len2 << 2, 1)
+        };
+        let y = rsqrt_q28(x) as i32 as i64;
+        let shift = (30 - extra) as u32;
+        Some(sum.map(|c| ((c * y + (1 << (shift - 1))) >> shift) as i32))
+    }
+    let mut rng = Rng(0x5ca1_ed0f_f00d_2024);
+    for n in 0..300_000 {
+        // Unit-length pairs (every case of the scaling), then any words
+        // whose sum stays in the fast path's range.
+        let reach = if n % 4 == 0 { 46_340 } else { UNIT_ONE as i64 };
+        let mut vector = || [0; 3].map(|_| rng.range(-reach, reach) as i32);
+        let (a, b) = (vector(), vector());
+        assert_eq!(
+            midpoint_normal(&a, &b),
+            scaled_in_64_bits(&a, &b),
+            "{a:?} {b:?}"
+        );
+    }
+}
+
+#[test]
 fn rsqrt_in_words_equals_the_64_bit_steps() {
     // The steps as first written, every value in 64 bits.
     fn in_64_bits(x: u64) -> u64 {
