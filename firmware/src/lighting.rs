@@ -193,6 +193,26 @@ impl LightSetup {
     // 0.03 M fewer instructions on the teapot's frame than out of line.
     #[inline(always)]
     pub fn shade(&self, n: &[i32; 3], base: Rgb888) -> ColorQ8 {
+        let [r, g, b] = self.lit(n, base);
+        let clamp = |v: i32| v.clamp(0, COLOR_Q8_MAX);
+        [clamp(r), clamp(g), clamp(b)]
+    }
+
+    /// [`channels_rounded`] of [`LightSetup::shade`]: the lit color
+    /// rounded to 8 bits per channel, with one clamp instead of two. The
+    /// same bits: below 0 both give 0 (the rounding of a value from -128
+    /// on is 0, of one below that negative); above `255 * 256` both give
+    /// 255 (the rounding of `255 * 256` is 255, and of a larger value at
+    /// least that).
+    #[inline(always)]
+    pub fn shade_rounded(&self, n: &[i32; 3], base: Rgb888) -> [u8; 3] {
+        channels_rounded(self.lit(n, base))
+    }
+
+    /// The channels of [`LightSetup::shade`] before their clamp (Q8,
+    /// below 2^21 in magnitude).
+    #[inline(always)]
+    fn lit(&self, n: &[i32; 3], base: Rgb888) -> [i32; 3] {
         // Unit vectors rounded to Q2.14 may give a dot product a step above 1.
         let ndl = dot(n, &self.to_light).clamp(0, UNIT_ONE);
         let diffuse = self.ambient + ((self.diffuse * ndl) >> UNIT_BITS);
@@ -208,8 +228,7 @@ impl LightSetup {
         };
         // base (8 bit) * Q14 -> Q14, then to Q8: shift by 6.
         let highlight = (255 * spec) >> (UNIT_BITS - 8);
-        let channel =
-            |c: u8| (((c as i32 * diffuse) >> (UNIT_BITS - 8)) + highlight).clamp(0, COLOR_Q8_MAX);
+        let channel = |c: u8| ((c as i32 * diffuse) >> (UNIT_BITS - 8)) + highlight;
         [channel(base.r()), channel(base.g()), channel(base.b())]
     }
 }
@@ -301,6 +320,39 @@ mod tests {
         // within 1/64 of a step on average.
         assert!(largest <= 128, "largest difference {largest}");
         assert!(sum <= 4 * count, "mean difference {}", sum / count);
+    }
+
+    #[test]
+    fn shade_rounded_is_the_rounded_shade() {
+        // Lights from dark to far beyond white (and, past what `new`
+        // makes, below black), in every direction.
+        let mut rng = crate::test_rng::xorshift(0x005a_de0f_ba5e_c010);
+        for i in 0..50_000 {
+            let r: [u64; 16] = core::array::from_fn(|_| rng());
+            let vector = |k: usize| {
+                normalize_unit(core::array::from_fn(|j| (r[k + j] % 2001) as i64 - 1000))
+            };
+            let (Some(n), Some(to_light), Some(half)) = (vector(0), vector(3), vector(6)) else {
+                continue;
+            };
+            let coefficient = |k: usize| (r[k] % (8 * UNIT_ONE as u64)) as i32;
+            let shininess = 1 + (r[12] % 64) as u32;
+            let light = LightSetup {
+                to_light,
+                half,
+                ambient: coefficient(9) - if i % 4 == 0 { 4 * UNIT_ONE } else { 0 },
+                diffuse: coefficient(10),
+                specular: coefficient(11),
+                shininess,
+                highlight_from: first_nonzero_power(shininess),
+            };
+            let base = Rgb888::new(r[13] as u8, r[14] as u8, r[15] as u8);
+            assert_eq!(
+                light.shade_rounded(&n, base),
+                channels_rounded(light.shade(&n, base)),
+                "{light:?} {n:?} {base:?}"
+            );
+        }
     }
 
     #[test]

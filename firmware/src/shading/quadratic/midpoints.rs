@@ -115,7 +115,11 @@ pub fn light_midpoints(lighting: &TriangleLighting, vertex_colors: &[ColorQ8; 3]
     core::array::from_fn(|k| {
         let (i, j) = (k, (k + 1) % 3);
         match midpoint_normal(&lighting.normals[i], &lighting.normals[j]) {
-            Some(n) => round_to_8_bits(lighting.light.shade(&n, lighting.base)),
+            Some(n) => {
+                // `round_to_8_bits` of the lit color.
+                let [r, g, b] = lighting.light.shade_rounded(&n, lighting.base);
+                [(r as i32) << 8, (g as i32) << 8, (b as i32) << 8]
+            }
             None => core::array::from_fn(|ch| {
                 ((vertex_colors[i][ch] as i64 + vertex_colors[j][ch] as i64) / 2) as i32
             }),
