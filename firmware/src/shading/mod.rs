@@ -83,12 +83,6 @@ impl TriangleSetup {
         } = self.corners;
         let (xs, ys) = (xs.map(i64::from), ys.map(i64::from));
         let (x0, y0) = (self.x0 as i64, self.y0 as i64);
-        let half = 1i64 << (SUBPIXEL_BITS - 1);
-        let center = ((x0 << SUBPIXEL_BITS) + half, (y0 << SUBPIXEL_BITS) + half);
-        let linear = |colors: &[ColorQ8; 3]| {
-            let center = (center.0 as i32, center.1 as i32);
-            linear::color_planes(colors, &self.corners.xs, &self.corners.ys, center, area2)
-        };
         // Colors and normals follow the vertices' order.
         let ordered_colors = |mut colors: [ColorQ8; 3]| {
             if swapped {
@@ -104,7 +98,9 @@ impl TriangleSetup {
         };
         match source {
             ColorSource::Constant(c) => ColorPlanes::Constant(c),
-            ColorSource::Linear(colors) => ColorPlanes::Linear(linear(&ordered_colors(colors))),
+            ColorSource::Linear(colors) => {
+                ColorPlanes::Linear(self.linear_planes(&ordered_colors(colors)))
+            }
             ColorSource::Quadratic(lighting, colors) => {
                 // The fit takes samples within [0, 255] (Q8): the vertex
                 // colors are 8-bit by their type (no clamp to pay), and the
@@ -126,7 +122,7 @@ impl TriangleSetup {
                     }
                     Some(channels) => ColorPlanes::Quadratic(channels),
                     // Samples on a plane, or a sliver far thinner than its box.
-                    None => ColorPlanes::Linear(linear(&colors)),
+                    None => ColorPlanes::Linear(self.linear_planes(&colors)),
                 }
             }
             ColorSource::Phong(lighting) => {
@@ -142,6 +138,22 @@ impl TriangleSetup {
                 }
             }
         }
+    }
+
+    /// The linear (Gouraud) planes of this triangle through the vertex
+    /// colors `colors` (Q8, in the vertices' order), from the center of
+    /// the first pixel of its bounding box. Out of line, with the setup
+    /// and the colors as its only arguments: the color setup builds no
+    /// closure's environment for it.
+    #[inline(never)]
+    fn linear_planes(&self, colors: &[ColorQ8; 3]) -> [Plane; 3] {
+        let half = 1 << (SUBPIXEL_BITS - 1);
+        let center = (
+            ((self.x0 as i32) << SUBPIXEL_BITS) + half,
+            ((self.y0 as i32) << SUBPIXEL_BITS) + half,
+        );
+        let Corners { xs, ys, area2, .. } = &self.corners;
+        linear::color_planes(colors, xs, ys, center, *area2)
     }
 }
 
