@@ -75,14 +75,14 @@ impl TriangleSetup {
     /// shading mode (the lighting of the midpoints and the quadratic fit
     /// happen here).
     pub fn color_planes<'l>(&self, source: ColorSource<'l>) -> ColorPlanes {
-        let Corners {
-            xs,
-            ys,
-            swapped,
-            area2,
-        } = self.corners;
-        let (xs, ys) = (xs.map(i64::from), ys.map(i64::from));
-        let (x0, y0) = (self.x0 as i64, self.y0 as i64);
+        let swapped = self.corners.swapped;
+        // The corners and the box as the fit and Phong's planes take them
+        // (not loaded for the other modes).
+        let corners = || {
+            let Corners { xs, ys, .. } = self.corners;
+            let origin = (self.x0 as i64, self.y0 as i64);
+            (xs.map(i64::from), ys.map(i64::from), origin)
+        };
         // Colors and normals follow the vertices' order.
         let ordered_colors = |mut colors: [ColorQ8; 3]| {
             if swapped {
@@ -110,11 +110,13 @@ impl TriangleSetup {
                     vertices: colors,
                     midpoints: light_midpoints(&ordered(lighting), &colors),
                 };
+                let (xs, ys, (x0, y0)) = corners();
                 let size = (self.x1 as i64 - x0 + 1, self.y1 as i64 - y0 + 1);
                 let fitted = if samples_are_planar(&samples) {
                     None
                 } else {
-                    fit_quadratic_over(&xs, &ys, (x0, y0), size, &samples, Some(area2))
+                    let area2 = Some(self.corners.area2);
+                    fit_quadratic_over(&xs, &ys, (x0, y0), size, &samples, area2)
                 };
                 match fitted {
                     Some(channels) if walks_in_i32(&channels, size) => {
@@ -127,7 +129,8 @@ impl TriangleSetup {
             }
             ColorSource::Phong(lighting) => {
                 let lighting = ordered(lighting);
-                match normal_planes(&xs, &ys, (x0, y0), &lighting.normals) {
+                let (xs, ys, origin) = corners();
+                match normal_planes(&xs, &ys, origin, &lighting.normals) {
                     Some(normal) => ColorPlanes::Phong(PhongPlanes {
                         normal,
                         light: *lighting.light,
