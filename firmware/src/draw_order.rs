@@ -71,6 +71,11 @@ const fn bits_for(n: usize) -> u32 {
 pub(crate) struct DrawOrder {
     triangle_bits: u32,
     object_bits: u32,
+    /// The bits of the object and triangle numbers together, and of the
+    /// triangle number: kept as masks, so that [`DrawOrder::split`] (several
+    /// times per triangle and band) does not make them again.
+    number_mask: u32,
+    triangle_mask: u32,
     /// What the key is.
     by: TriangleOrder,
     /// How far the key's value (a depth or a row) is shifted down to keep
@@ -96,6 +101,8 @@ impl DrawOrder {
         Some(Self {
             triangle_bits,
             object_bits,
+            number_mask: ((1u64 << number_bits) - 1) as u32,
+            triangle_mask: (1u32 << triangle_bits) - 1,
             by,
             key_drop: value_bits - key_bits,
         })
@@ -131,10 +138,10 @@ impl DrawOrder {
     /// The object and the triangle within its mesh of `entry`.
     #[inline]
     pub(crate) fn split(&self, entry: u32) -> (usize, usize) {
-        let number = entry & ((1u32 << (self.object_bits + self.triangle_bits)) - 1);
+        let number = entry & self.number_mask;
         (
             (number >> self.triangle_bits) as usize,
-            (number & ((1u32 << self.triangle_bits) - 1)) as usize,
+            (number & self.triangle_mask) as usize,
         )
     }
 
