@@ -208,8 +208,9 @@ pub fn draw_in_band<M: CoverageMask, B: BandBuffer<M>>(
     band_y0: u16,
     band_rows: u16,
 ) -> Result<(), Rejection> {
-    let accepted =
-        TriangleSetup::accept(vertices, params.cull_backfaces, params.width, params.height)?;
+    let screen = (params.width, params.height);
+    let within = params.within_guard_band;
+    let accepted = TriangleSetup::accept(vertices, params.cull_backfaces, screen, within)?;
     // Only rows whose samples reach into the triangle's height can hold its
     // fragments; a band without such a row costs nothing more (on the
     // z-buffer, whose one sample is the pixel center, that is half a row at
@@ -274,4 +275,9 @@ pub struct DrawParams<'c> {
     /// triangle the buffer hid, since triangles drawn nearest first come
     /// hidden in runs, behind whatever hid the first of them.
     pub test_whole_band: bool,
+    /// Whether every vertex is known to lie within the guard band (`±2^16`
+    /// in 1/16 pixel), as the frame driver's do (window positions are
+    /// clamped to it): setup then neither tests nor clamps them. With
+    /// `false`, setup tests them and clamps any that lie beyond.
+    pub within_guard_band: bool,
 }

@@ -850,6 +850,8 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
             width: ctx.scene.width,
             height: ctx.scene.height,
             test_whole_band: after_hidden,
+            // Screen vertices are clamped to it.
+            within_guard_band: true,
         };
         // Rejections were counted when binning.
         let _ = buffer.draw_triangle(&v.map(|p| setup_vertex(&p)), &params, y0, rows);
@@ -862,6 +864,8 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         width: ctx.scene.width,
         height: ctx.scene.height,
         test_whole_band: false,
+        // `project` clamps the pieces' corners to it.
+        within_guard_band: true,
     };
     // Clipped path: transform the corners again at full range and cut the triangle.
     let transform = &frame.objects[o].transform;
@@ -906,5 +910,31 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         };
         // A piece may be degenerate or off screen; nothing to count then.
         let _ = buffer.draw_triangle(&fan, &piece, y0, rows);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The frame driver tells setup its corners lie within the guard band
+    /// (`DrawParams::within_guard_band`): screen vertices are clamped to
+    /// it, and so are the projected corners of clipped pieces.
+    #[test]
+    fn window_positions_lie_within_the_guard_band() {
+        let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
+        let within = |c: i32| (-lim..=lim).contains(&c);
+        for c in [i32::MIN, -lim - 1, -lim, -1, 0, 1, lim, lim + 1, i32::MAX] {
+            let v = ScreenVertex::new(c, -c.saturating_add(1), DEPTH_MAX, [255; 3], 0x3f);
+            assert!(within(v.x()) && within(v.y()), "{c}");
+        }
+        let mut next = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
+        for _ in 0..10_000 {
+            // Clip-space points, near ones and far outside the view volume.
+            let mut coordinate = || (next() as i64) >> (next() % 40);
+            let w = coordinate().unsigned_abs().max(1) as i64;
+            let (x, y, _) = project(&[coordinate(), coordinate(), coordinate(), w]);
+            assert!(within(x) && within(y), "{x} {y}");
+        }
     }
 }

@@ -347,21 +347,24 @@ impl TriangleSetup {
         Ok(Self::build(&Self::accept(
             v,
             cull_backfaces,
-            width,
-            height,
+            (width, height),
+            false,
         )?))
     }
 
-    /// The rejection tests of [`TriangleSetup::new`]: what passes them, with
-    /// the corners in edge order and clamped and the bounding box on screen.
-    /// (Kept apart from [`TriangleSetup::build`] so a caller's setup is
-    /// built where it lives, not moved out of a `Result`.)
+    /// The rejection tests of [`TriangleSetup::new`] for a `width x height`
+    /// screen: what passes them, with the corners in edge order and clamped
+    /// and the bounding box on screen. `within_guard_band` says that every
+    /// corner is known to lie within the guard band already (the frame
+    /// driver's window positions are clamped to it): they are then neither
+    /// tested nor clamped. (Kept apart from [`TriangleSetup::build`] so a
+    /// caller's setup is built where it lives, not moved out of a `Result`.)
     #[inline(always)]
     pub(crate) fn accept(
         v: &[SetupVertex; 3],
         cull_backfaces: bool,
-        width: u16,
-        height: u16,
+        (width, height): (u16, u16),
+        within_guard_band: bool,
     ) -> Result<Accepted<'_>, Rejection> {
         // Clamped corners fit `i32` (±2^16), their differences too (±2^17):
         // the products of setup are single 32 x 32 -> 64-bit multiplications.
@@ -369,7 +372,7 @@ impl TriangleSetup {
         // Vertices already within the guard band (every one that was not
         // clipped) need no clamp: one unsigned comparison each says so.
         let within = |c: i32| c.wrapping_add(lim) as u32 <= 2 * lim as u32;
-        let all_within = v.iter().all(|p| within(p.x) & within(p.y));
+        let all_within = within_guard_band || v.iter().all(|p| within(p.x) & within(p.y));
         // The area of the corners as given; within the guard band, from
         // their differences in `i32` (the same integer).
         let area2 = if all_within {
@@ -545,7 +548,7 @@ mod tests {
                     z: 0,
                 },
             ];
-            let Ok(accepted) = TriangleSetup::accept(&v, false, 48, 40) else {
+            let Ok(accepted) = TriangleSetup::accept(&v, false, (48, 40), false) else {
                 continue;
             };
             let what = || format!("{} grid, corners {:?}", M::NAME, v.map(|p| (p.x, p.y)));

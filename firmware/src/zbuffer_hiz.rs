@@ -319,6 +319,7 @@ mod tests {
             width: W,
             height: H,
             test_whole_band: false,
+            within_guard_band: false,
         }
     }
 
