@@ -822,7 +822,7 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
     buffer: &mut B,
     stats: &mut GeometryStats,
 ) {
-    let (o, i) = ctx.order.split(t);
+    let o = ctx.order.split(t).0;
     let object = &ctx.scene.objects[o];
     let v = corners_of(ctx, frame.objects, frame.vertices, t);
     let or = v[0].outcode() | v[1].outcode() | v[2].outcode();
@@ -857,7 +857,27 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         let _ = buffer.draw_triangle(&v.map(|p| setup_vertex(&p)), &params, y0, rows);
         return;
     }
-    let colors = color_source(ctx, frame.objects, t, &v);
+    draw_clipped(ctx, frame, t, &v, (y0, rows), buffer, stats);
+}
+
+/// [`draw_triangle`] for a triangle that crosses a clip plane (`v`, its
+/// corners, have outcodes): cut, projected again and drawn as a fan.
+// Out of line: the few clipped triangles' code kept the frame loop's
+// registers busy for every triangle.
+#[inline(never)]
+fn draw_clipped<M: CoverageMask, B: BandBuffer<M>>(
+    ctx: &FrameContext<'_, '_>,
+    frame: &FrameVertices<'_, '_>,
+    t: u32,
+    v: &[ScreenVertex; 3],
+    (y0, rows): (u16, u16),
+    buffer: &mut B,
+    stats: &mut GeometryStats,
+) {
+    let (o, i) = ctx.order.split(t);
+    let object = &ctx.scene.objects[o];
+    let or = v[0].outcode() | v[1].outcode() | v[2].outcode();
+    let colors = color_source(ctx, frame.objects, t, v);
     let params = DrawParams {
         cull_backfaces: object.cull_backfaces,
         colors: &|setup: &TriangleSetup| setup.color_planes(colors),
