@@ -277,7 +277,10 @@ pub struct DrawParams<'c> {
     pub test_whole_band: bool,
     /// Whether every vertex is known to lie within the guard band (`±2^16`
     /// in 1/16 pixel), as the frame driver's do (window positions are
-    /// clamped to it): setup then neither tests nor clamps them. With
-    /// `false`, setup tests them and clamps any that lie beyond.
+    /// clamped to it): setup then neither tests nor clamps them, and its
+    /// 32-bit differences of corners assume they fit (for a vertex beyond
+    /// the band they overflow: wrong edges, or a panic where overflow is
+    /// checked).
+    /// With `false`, setup tests them and clamps any that lie beyond.
     pub within_guard_band: bool,
 }
