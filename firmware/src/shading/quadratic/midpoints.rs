@@ -51,13 +51,7 @@ pub fn midpoint_normal(a: &[i32; 3], b: &[i32; 3]) -> Option<[i32; 3]> {
     if len2 >= 1 << 31 {
         return normalize_unit(sum);
     }
-    let (x, extra) = if len2 >= 1 << 30 {
-        (len2 >> 2, -1)
-    } else if len2 >= 1 << 28 {
-        (len2, 0)
-    } else {
-        (len2 << 2, 1)
-    };
+    let (x, extra) = scaled_into_one_to_four(len2);
     // Below 2^31 (see `rsqrt_q28`): with the sum's components (words) one
     // 32 x 32-bit product each.
     let y = rsqrt_q28(x) as i32;
@@ -69,6 +63,20 @@ pub fn midpoint_normal(a: &[i32; 3], b: &[i32; 3]) -> Option<[i32; 3]> {
     // most 3.
     let up = (2 + extra) as u32;
     Some(sum.map(|c| (wide_mul_add(1 << 31, (c as i32) << up, y) >> 32) as i32))
+}
+
+/// A squared length `len2` of `[2^26, 2^31)` (Q28) scaled by a power of
+/// four into `[1, 4)`, with that power's exponent negated: `(len2 4^extra,
+/// extra)`.
+#[inline]
+pub(super) fn scaled_into_one_to_four(len2: u64) -> (u64, i32) {
+    if len2 >= 1 << 30 {
+        (len2 >> 2, -1)
+    } else if len2 >= 1 << 28 {
+        (len2, 0)
+    } else {
+        (len2 << 2, 1)
+    }
 }
 
 /// Largest deviation of a midpoint sample from the mean of its edge's vertex

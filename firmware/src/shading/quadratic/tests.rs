@@ -1,5 +1,5 @@
 use super::fit::{fit_channels, FitBasis, SMALL_BARYCENTRIC_LIMIT};
-use super::midpoints::{rsqrt_q28, RSQRT_START};
+use super::midpoints::{rsqrt_q28, scaled_into_one_to_four, RSQRT_START};
 use super::*;
 use crate::fixed_point::{Reciprocal, GUARD_BAND_PX, SUBPIXEL_BITS, UNIT_ONE};
 use crate::shading::ColorWalk;
@@ -554,13 +554,7 @@ fn midpoint_normal_scaled_by_the_high_word_equals_the_64_bit_shift() {
         if !(1 << 26..1 << 31).contains(&len2) {
             return midpoint_normal(a, b);
         }
-        let (x, extra) = if len2 >= 1 << 30 {
-            (len2 >> 2, -1)
-        } else if len2 >= 1 << 28 {
-            (len2, 0)
-        } else {
-            (len2 << 2, 1)
-        };
+        let (x, extra) = scaled_into_one_to_four(len2);
         let y = rsqrt_q28(x) as i32 as i64;
         let shift = (30 - extra) as u32;
         Some(sum.map(|c| ((c * y + (1 << (shift - 1))) >> shift) as i32))
