@@ -33,6 +33,13 @@ pub trait LinePixel: Copy + 'static {
         Self::from_channels(c.r(), c.g(), c.b())
     }
 
+    /// Sets the pixel to the one showing `c` (a format may store its parts
+    /// one by one).
+    #[inline(always)]
+    fn set_rgb888(&mut self, c: Rgb888) {
+        *self = Self::from_rgb888(c);
+    }
+
     /// Sets every pixel of `line` to `value` (a format may write several
     /// pixels at once).
     #[inline(always)]
@@ -153,6 +160,15 @@ impl LinePixel for PackedRgb888 {
     #[inline(always)]
     fn from_channels(r: u8, g: u8, b: u8) -> Self {
         Self([r, g, b])
+    }
+
+    /// Three byte stores: stored as one value, the three bytes are first
+    /// packed into a word and stored as a half-word and a byte.
+    #[inline(always)]
+    fn set_rgb888(&mut self, c: Rgb888) {
+        self.0[0] = c.r();
+        self.0[1] = c.g();
+        self.0[2] = c.b();
     }
 
     #[inline(always)]

@@ -141,7 +141,7 @@ impl<P: LinePixel> BandBuffer<Mask1x1> for ZBuffer<'_, P> {
                     0
                 };
                 *stored_depth = z;
-                *stored_color = P::from_rgb888(walk.color(color));
+                stored_color.set_rgb888(walk.color(color));
             }
             walk.step(color);
             rounded = rounded.wrapping_add(step);
@@ -291,7 +291,7 @@ impl<'a, P: LinePixel> DepthColorBand<'a, P> {
         if fragment.mask == Mask1x1::FULL && fragment.z <= old {
             stats.fragments_removed_hidden += (old != EMPTY_DEPTH) as u32;
             *depth = fragment.z;
-            *color = P::from_rgb888(fragment.color);
+            color.set_rgb888(fragment.color);
             stats.fragments_stored += 1;
             Some(old)
         } else {
