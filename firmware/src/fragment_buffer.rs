@@ -1007,15 +1007,17 @@ impl<M: CoverageMask, A: PoolAddress, S: BufferShape> BandBuffer<M>
         let each = |s: &Self, x: usize, counts: &[u8], out: &mut [P]| {
             for (k, (px, &n)) in out.iter_mut().zip(counts).enumerate() {
                 let p = start + x + k;
-                *px = if n == 0 {
-                    empty
+                // Each branch stores its own pixel (`set_rgb888`: a format
+                // of bytes stores them one by one rather than packed).
+                if n == 0 {
+                    *px = empty;
                 } else if n == 1 && s.main[p * n_main].mask() == M::FULL {
                     // An interior pixel: one fragment covers every sample.
                     let [r, g, b] = s.main[p * n_main].rgb();
-                    P::from_channels(r, g, b)
+                    px.set_rgb888(Rgb888::new(r, g, b));
                 } else {
-                    P::from_rgb888(s.resolve_pixel(p, n as usize, background))
-                };
+                    px.set_rgb888(s.resolve_pixel(p, n as usize, background));
+                }
             }
         };
         // Background runs are filled whole (a format may store several
