@@ -227,7 +227,10 @@ impl<V: QuadraticValue> ColorWalk for QuadraticWalk<V> {
     fn skip(&self, row: &mut QuadraticRow<V>, n: u16) {
         // n steps at once: the value grows by n D + s n (n - 1) / 2, the
         // difference D by n s (s the second difference); the same integers.
-        let triangle = V::from_i64(n as i64 * (n as i64 - 1) / 2);
+        // `n^2 - n` in 32 bits: below 2^32 for a `u16` count and never
+        // negative, so no 64-bit product or signed halving.
+        let n_u32 = n as u32;
+        let triangle = V::from_i64(((n_u32 * n_u32 - n_u32) / 2) as i64);
         let n = V::from_count(n);
         for c in 0..3 {
             let grown = n
