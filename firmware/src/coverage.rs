@@ -63,6 +63,13 @@ pub trait CoverageMask:
     fn edge_coverage_short(edge: &Self::EdgeSamples, e: i32) -> Self {
         Self::edge_coverage(edge, e)
     }
+    /// [`CoverageMask::edge_coverage_short`] for a center value `e` below the
+    /// edge's margin (`|a| max_offset_x + |b| max_offset_y`): some sample
+    /// stays uncovered, which a grid may use to do less.
+    #[inline]
+    fn edge_coverage_short_partial(edge: &Self::EdgeSamples, e: i32) -> Self {
+        Self::edge_coverage_short(edge, e)
+    }
 
     /// Whether no sample is set.
     #[inline]
@@ -260,9 +267,35 @@ mod sorted_4x4 {
         pub fn mask(&self, e: i32) -> u16 {
             let [xs, ys] = &NEGATED_OFFSETS[self.sector as usize & 31];
             // Masked indices: in range by construction, so no bounds checks.
-            self.search(e, |k| {
+            self.search::<true>(e, |k| {
                 self.a * xs[k & 15] as i32 + self.b * ys[k & 15] as i32
             })
+        }
+
+        /// [`Edge4x4::mask`] for a center value `e` below the edge's margin
+        /// `6 |a| + 6 |b|`. That margin is the largest threshold (the
+        /// corner sample against the edge's direction), so the last
+        /// threshold is above `e` and the search leaves out its test.
+        #[inline]
+        pub fn mask_partial(&self, e: i32) -> u16 {
+            let [xs, ys] = &NEGATED_OFFSETS[self.sector as usize & 31];
+            self.search::<false>(e, |k| {
+                self.a * xs[k & 15] as i32 + self.b * ys[k & 15] as i32
+            })
+        }
+
+        /// [`Edge4x4::mask_short`] for a center value `e` below the edge's
+        /// margin, as [`Edge4x4::mask_partial`].
+        #[inline]
+        pub fn mask_short_partial(&self, e: i32) -> u16 {
+            #[cfg(arm_dual_multiply)]
+            {
+                self.mask_packed_partial(e)
+            }
+            #[cfg(not(arm_dual_multiply))]
+            {
+                self.mask_partial(e)
+            }
         }
 
         /// [`Edge4x4::mask`] for steps within `±2^15`: on the DSP extension
@@ -290,13 +323,27 @@ mod sorted_4x4 {
         #[inline]
         pub fn mask_packed(&self, e: i32) -> u16 {
             let offsets = &PACKED_OFFSETS[self.sector as usize & 31];
-            self.search(e, |k| dual_mul_add(self.steps, offsets[k & 15]))
+            self.search::<true>(e, |k| dual_mul_add(self.steps, offsets[k & 15]))
+        }
+
+        /// [`Edge4x4::mask_packed`] for a center value `e` below the edge's
+        /// margin, as [`Edge4x4::mask_partial`].
+        #[cfg(any(arm_dual_multiply, test))]
+        #[inline]
+        pub fn mask_packed_partial(&self, e: i32) -> u16 {
+            let offsets = &PACKED_OFFSETS[self.sector as usize & 31];
+            self.search::<false>(e, |k| dual_mul_add(self.steps, offsets[k & 15]))
         }
 
         /// The samples whose thresholds `threshold(k)` (rising with `k` in
-        /// the sector's order) are at most `e`.
+        /// the sector's order) are at most `e`; without `CAN_COVER_ALL`,
+        /// `e` is below the last threshold.
         #[inline(always)]
-        fn search(&self, e: i32, threshold: impl Fn(usize) -> i32) -> u16 {
+        fn search<const CAN_COVER_ALL: bool>(
+            &self,
+            e: i32,
+            threshold: impl Fn(usize) -> i32,
+        ) -> u16 {
             // How many thresholds are at most e: a binary search.
             let mut k = 0;
             if threshold(7) <= e {
@@ -311,7 +358,7 @@ mod sorted_4x4 {
             if threshold(k) <= e {
                 k += 1;
             }
-            if k == 15 && threshold(15) <= e {
+            if CAN_COVER_ALL && k == 15 && threshold(15) <= e {
                 k = 16;
             }
             PREFIX[self.sector as usize & 31][k.min(16)]
@@ -374,6 +421,10 @@ macro_rules! edge_by_table {
         #[inline]
         fn edge_coverage_short(edge: &Edge4x4, e: i32) -> Self {
             Self(edge.mask_short(e))
+        }
+        #[inline]
+        fn edge_coverage_short_partial(edge: &Edge4x4, e: i32) -> Self {
+            Self(edge.mask_short_partial(e))
         }
     };
 }
@@ -536,6 +587,44 @@ mod tests {
         let edge = Edge4x4::new(-(SHORT_STEP_LIMIT - 1), SHORT_STEP_LIMIT - 1);
         for e in [-200_000, -1, 0, 1, 200_000] {
             assert_eq!(edge.mask_packed(e), edge.mask(e), "e {e}");
+        }
+    }
+
+    #[test]
+    fn partial_masks_equal_the_full_search_below_the_margin() {
+        let mut xorshift = crate::test_rng::xorshift(0x94D0_49BB_1331_11EB);
+        let mut next = |range: i64| (xorshift() % (2 * range as u64 + 1)) as i64 - range;
+        for round in 0..400_000 {
+            // Small steps (exact ties), then any short one; values up to
+            // just below the margin, and the last ones below it often.
+            let range = if round % 2 == 0 {
+                24
+            } else {
+                SHORT_STEP_LIMIT as i64 - 1
+            };
+            let (a, b) = (next(range) as i32, next(range) as i32);
+            if a == 0 && b == 0 {
+                continue;
+            }
+            let margin = 6 * (a.abs() + b.abs());
+            let e = if round % 4 < 2 {
+                margin - 1 - (next(3).unsigned_abs() as i32)
+            } else {
+                (next(margin as i64 + 2) as i32).min(margin - 1)
+            };
+            let edge = Edge4x4::new(a, b);
+            assert_ne!(edge.mask(e), u16::MAX, "a {a} b {b} e {e}");
+            assert_eq!(edge.mask_partial(e), edge.mask(e), "a {a} b {b} e {e}");
+            assert_eq!(
+                edge.mask_packed_partial(e),
+                edge.mask(e),
+                "a {a} b {b} e {e}"
+            );
+            assert_eq!(
+                edge.mask_short_partial(e),
+                edge.mask(e),
+                "a {a} b {b} e {e}"
+            );
         }
     }
 

@@ -146,7 +146,8 @@ fn pixel_coverage<M: CoverageMask, E: EdgeValue>(
         if e[i] < margin[i] {
             let e = e[i].near();
             let edge = if E::SHORT_STEPS {
-                M::edge_coverage_short(&edges[i], e)
+                // Below the margin: some sample is left out.
+                M::edge_coverage_short_partial(&edges[i], e)
             } else {
                 M::edge_coverage(&edges[i], e)
             };
