@@ -317,11 +317,22 @@ impl StripSummary {
         self.stored_farthest(x, f.farthest_sample_depth());
     }
 
+    /// The strip of column `x` of a band the summary is kept for (at most
+    /// `MAX_STRIPS * STRIP_WIDTH` pixels wide, so `x / STRIP_WIDTH` is a
+    /// strip). Taken modulo `MAX_STRIPS`, a power of two: the same strip,
+    /// one bit-field extract and no bounds check in the insertion's first
+    /// fragment path.
+    #[inline(always)]
+    fn strip_of(x: usize) -> usize {
+        const _: () = assert!(MAX_STRIPS.is_power_of_two());
+        (x / STRIP_WIDTH) % MAX_STRIPS
+    }
+
     /// Notes a fragment whose farthest sample depth is `farthest` at column `x`.
     #[inline(always)]
     fn stored_farthest(&mut self, x: usize, farthest: i32) {
         if self.kept {
-            let s = &mut self.farthest[x / STRIP_WIDTH];
+            let s = &mut self.farthest[Self::strip_of(x)];
             *s = (*s).max(farthest);
         }
     }
@@ -341,7 +352,7 @@ impl StripSummary {
     #[inline]
     fn covered<M: CoverageMask>(&mut self, x: usize, before: M, added: M) {
         if self.kept && before != M::FULL && (before | added) == M::FULL {
-            self.full_pixels[x / STRIP_WIDTH] += 1;
+            self.full_pixels[Self::strip_of(x)] += 1;
         }
     }
 }
