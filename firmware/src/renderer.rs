@@ -832,9 +832,12 @@ fn draw_triangle<M: CoverageMask, B: BandBuffer<M>>(
         // Quadratic surfaces are worth carrying to the next band (lighting
         // and a fit); Gouraud planes cost less than the copies.
         let worth_carrying = ctx.shading(o) == Shading::Quadratic;
-        let lazy = |setup: &TriangleSetup| {
+        let corners = &v;
+        // Captures by value: the closure is built for every triangle in
+        // every band, and holds the values rather than their addresses.
+        let lazy = move |setup: &TriangleSetup| {
             frame.color_requests.set(frame.color_requests.get() + 1);
-            let source = || color_source(ctx, frame.objects, t, &v);
+            let source = || color_source(ctx, frame.objects, t, corners);
             // Nothing else borrows the table while colors are set up.
             if worth_carrying {
                 if let Ok(mut carry) = frame.carry.try_borrow_mut() {
