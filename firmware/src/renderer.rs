@@ -610,7 +610,10 @@ fn corners_of(
     let (o, i) = ctx.order.split(t);
     let base = objects[o].vertex_base as usize;
     let tri = ctx.scene.objects[o].mesh.triangles[i];
-    tri.map(|v| vertices[base + v as usize])
+    // Written out rather than `tri.map`: the map's array was built on the
+    // stack and copied to the caller's once more.
+    let corner = |k: usize| vertices[base + tri[k] as usize];
+    [corner(0), corner(1), corner(2)]
 }
 
 #[inline]
