@@ -387,7 +387,7 @@ fn project_normalized(&[x, y, z, w]: &[i64; 4]) -> (i32, i32, u32) {
             q.clamp(low, high)
         }
     };
-    let div = |n: i64| clamped(w.mul_div_round(n, SUBPIXEL_BITS), -lim, lim) as i32;
+    let div = |n: i64| clamped(w.mul_div_round_large_divisor(n, SUBPIXEL_BITS), -lim, lim) as i32;
     let depth = w.mul_div_round(z.max(0), DEPTH_BITS);
     (div(x), div(y), clamped(depth, 0, DEPTH_MAX as i64) as u32)
 }
