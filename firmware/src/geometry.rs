@@ -328,7 +328,7 @@ pub fn outcode_and_project(c: &[i64; 4]) -> (u8, (i32, i32, u32)) {
     let normalized = normalize_clip(c);
     let code = outcode_of(&normalized);
     let window = if code == 0 {
-        project_normalized(&normalized)
+        project_inside(&normalized)
     } else {
         (0, 0, 0)
     };
@@ -387,9 +387,36 @@ fn project_normalized(&[x, y, z, w]: &[i64; 4]) -> (i32, i32, u32) {
             q.clamp(low, high)
         }
     };
-    let div = |n: i64| clamped(w.mul_div_round_large_divisor(n, SUBPIXEL_BITS), -lim, lim) as i32;
+    let rounded = |n: i64| (w.mul_div_large_divisor(n, SUBPIXEL_BITS + 1) + 1) >> 1;
+    let div = |n: i64| clamped(rounded(n), -lim, lim) as i32;
     let depth = w.mul_div_round(z.max(0), DEPTH_BITS);
     (div(x), div(y), clamped(depth, 0, DEPTH_MAX as i64) as u32)
+}
+
+/// [`project_normalized`] of a vertex inside the view volume (outcode zero),
+/// rounded and clamped in 32 bits: the same bits.
+///
+/// Range: the reciprocal of `w` is below `2 / w` (its normalized divisor is
+/// below 2^32, its mantissa at most 2^32), and the vertex has `|x|, |y| <=
+/// GUARD_BAND_PX w` and `0 <= z <= w`, so the quotients before rounding are
+/// below `2^12 2^5 2 + 1 < 2^19` and `2^25 2 + 1 < 2^27` in magnitude: they
+/// fit `i32` with room for the rounding's `+ 1`.
+#[inline]
+fn project_inside(&[x, y, z, w]: &[i64; 4]) -> (i32, i32, u32) {
+    let w = Reciprocal::new(w.max(1) as u64);
+    let lim = GUARD_BAND_PX << SUBPIXEL_BITS;
+    let round = |q: i64| ((q as i32) + 1) >> 1;
+    // In 32 bits a clamp is two comparisons and their selects.
+    let clamped = |q: i32, low: i32, high: i32| q.clamp(low, high);
+    let div = |n: i64| {
+        clamped(
+            round(w.mul_div_large_divisor(n, SUBPIXEL_BITS + 1)),
+            -lim,
+            lim,
+        )
+    };
+    let depth = round(w.mul_div(z.max(0), DEPTH_BITS + 1));
+    (div(x), div(y), clamped(depth, 0, DEPTH_MAX as i32) as u32)
 }
 
 #[cfg(test)]
