@@ -14,7 +14,7 @@ use crate::coverage::CoverageMask;
 use crate::draw_order::DrawOrder;
 use crate::fixed_point::{Coord, DEPTH_MAX, GUARD_BAND_PX, SUBPIXEL_BITS};
 use crate::geometry::{outcode_and_project, project, ObjectTransform, ViewBasis, OUT_NEAR};
-use crate::lighting::{channels_rounded, color_q8, normalize_unit, rgb888_rounded, LightSetup};
+use crate::lighting::{color_q8, normalize_unit, rgb888_rounded, LightSetup};
 use crate::openings::OpeningBoxes;
 use crate::scene::{Scene, SceneError, Shading};
 use crate::setup::{is_backfacing, signed_area2, SetupVertex, TriangleSetup};
@@ -577,7 +577,7 @@ fn transform_vertices(
             let color = match (shading, &light) {
                 (Shading::Gouraud | Shading::Quadratic, Some(light)) => {
                     let n = mesh.normals[i].map(|v| v.to_bits() as i32);
-                    channels_rounded(light.shade(&n, base_color))
+                    light.shade_rounded(&n, base_color)
                 }
                 _ => flat,
             };
