@@ -562,13 +562,17 @@ mod tests {
         }
     }
 
-    #[test]
-    fn packed_thresholds_equal_the_plain_ones() {
-        let mut xorshift = crate::test_rng::xorshift(0x2545_F491_4F6C_DD1D);
+    /// Calls `check(round, a, b, next)` for 400,000 random edges with
+    /// short steps `a`, `b` (never both zero): small ones (exact ties) on
+    /// even rounds, any short one on odd rounds, the limit's ends
+    /// included; `next(r)` draws from `-r ..= r`.
+    fn for_random_short_edges(
+        seed: u64,
+        mut check: impl FnMut(usize, i32, i32, &mut dyn FnMut(i64) -> i64),
+    ) {
+        let mut xorshift = crate::test_rng::xorshift(seed);
         let mut next = |range: i64| (xorshift() % (2 * range as u64 + 1)) as i64 - range;
         for round in 0..400_000 {
-            // Small steps (exact ties), then any short one, the limit's
-            // ends included.
             let range = if round % 2 == 0 {
                 24
             } else {
@@ -578,12 +582,19 @@ mod tests {
             if a == 0 && b == 0 {
                 continue;
             }
+            check(round, a, b, &mut next);
+        }
+    }
+
+    #[test]
+    fn packed_thresholds_equal_the_plain_ones() {
+        for_random_short_edges(0x2545_F491_4F6C_DD1D, |_, a, b, next| {
             let margin = 6 * (a.abs() + b.abs());
             let e = next(margin as i64 + 2) as i32;
             let edge = Edge4x4::new(a, b);
             assert_eq!(edge.mask_packed(e), edge.mask(e), "a {a} b {b} e {e}");
             assert_eq!(edge.mask_short(e), edge.mask(e), "a {a} b {b} e {e}");
-        }
+        });
         let edge = Edge4x4::new(-(SHORT_STEP_LIMIT - 1), SHORT_STEP_LIMIT - 1);
         for e in [-200_000, -1, 0, 1, 200_000] {
             assert_eq!(edge.mask_packed(e), edge.mask(e), "e {e}");
@@ -592,20 +603,9 @@ mod tests {
 
     #[test]
     fn partial_masks_equal_the_full_search_below_the_margin() {
-        let mut xorshift = crate::test_rng::xorshift(0x94D0_49BB_1331_11EB);
-        let mut next = |range: i64| (xorshift() % (2 * range as u64 + 1)) as i64 - range;
-        for round in 0..400_000 {
-            // Small steps (exact ties), then any short one; values up to
-            // just below the margin, and the last ones below it often.
-            let range = if round % 2 == 0 {
-                24
-            } else {
-                SHORT_STEP_LIMIT as i64 - 1
-            };
-            let (a, b) = (next(range) as i32, next(range) as i32);
-            if a == 0 && b == 0 {
-                continue;
-            }
+        for_random_short_edges(0x94D0_49BB_1331_11EB, |round, a, b, next| {
+            // Values up to just below the margin, the last ones below it
+            // often.
             let margin = 6 * (a.abs() + b.abs());
             let e = if round % 4 < 2 {
                 margin - 1 - (next(3).unsigned_abs() as i32)
@@ -615,17 +615,11 @@ mod tests {
             let edge = Edge4x4::new(a, b);
             assert_ne!(edge.mask(e), u16::MAX, "a {a} b {b} e {e}");
             assert_eq!(edge.mask_partial(e), edge.mask(e), "a {a} b {b} e {e}");
-            assert_eq!(
-                edge.mask_packed_partial(e),
-                edge.mask(e),
-                "a {a} b {b} e {e}"
-            );
-            assert_eq!(
-                edge.mask_short_partial(e),
-                edge.mask(e),
-                "a {a} b {b} e {e}"
-            );
-        }
+            let packed = edge.mask_packed_partial(e);
+            assert_eq!(packed, edge.mask(e), "a {a} b {b} e {e}");
+            let short = edge.mask_short_partial(e);
+            assert_eq!(short, edge.mask(e), "a {a} b {b} e {e}");
+        });
     }
 
     #[test]
