@@ -240,14 +240,20 @@ impl Reciprocal {
             return (n * self.mantissa as i64) >> shift;
         }
         if self.shift >= extra + 32 {
-            // A divisor large against `2^extra` (a vertex's `w`): the
-            // quotient is below the product's high word, so the halves need
-            // no room made for `2^extra` first (the same bits again).
-            let high = (n >> 32) * self.mantissa as i64;
-            let low = ((n as u32 as u64 * self.mantissa as u64) >> 32) as i64;
-            return (high + low) >> (self.shift - extra - 32);
+            return self.mul_div_by_large(n, extra);
         }
         self.mul_div_wide(n, extra)
+    }
+
+    /// [`Reciprocal::mul_div`] for a divisor large against `2^extra`
+    /// (`shift >= extra + 32`, a vertex's `w`): the quotient is below the
+    /// product's high word, so the halves need no room made for `2^extra`
+    /// first (the same bits again).
+    #[inline(always)]
+    fn mul_div_by_large(self, n: i64, extra: u32) -> i64 {
+        let high = (n >> 32) * self.mantissa as i64;
+        let low = ((n as u32 as u64 * self.mantissa as u64) >> 32) as i64;
+        (high + low) >> (self.shift - extra - 32)
     }
 
     /// [`Reciprocal::mul_div`] of each of `numerators` (the same bits), with
@@ -336,9 +342,7 @@ impl Reciprocal {
     #[inline]
     pub fn mul_div_large_divisor(self, n: i64, extra: u32) -> i64 {
         if self.shift >= extra + 32 {
-            let high = (n >> 32) * self.mantissa as i64;
-            let low = ((n as u32 as u64 * self.mantissa as u64) >> 32) as i64;
-            (high + low) >> (self.shift - extra - 32)
+            self.mul_div_by_large(n, extra)
         } else {
             self.mul_div(n, extra)
         }
